@@ -1,0 +1,91 @@
+// cloudgen/grid.h — evaluating the density on a voxel grid over the cloud box.
+//
+// Units: `voxel` and `origin` are in scene units in the cloud's local frame
+// (see model.h); voxel indices are integers, voxel (i,j,k) has its centre at
+// origin + (i + 1/2, j + 1/2, k + 1/2) * voxel. The grid is cut into 8^3 tiles
+// (the size of an OpenVDB leaf) aligned to index 0.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cloudgen/model.h"
+#include "cloudgen/parallel.h"
+
+namespace cg {
+
+constexpr int kTile = 8;
+constexpr int kTileVoxels = kTile * kTile * kTile;
+
+struct GridSpec {
+  int n[3];     // voxels per axis
+  float voxel;  // edge length, scene units
+  vec3 origin;  // corner of voxel (0,0,0), scene units
+  std::int64_t voxel_count() const { return std::int64_t(n[0]) * n[1] * n[2]; }
+  int tiles(int axis) const { return (n[axis] + kTile - 1) / kTile; }
+  vec3 centre(int i, int j, int k) const {
+    return {origin[0] + (i + 0.5f) * voxel, origin[1] + (j + 0.5f) * voxel, origin[2] + (k + 0.5f) * voxel};
+  }
+};
+
+// Cubic voxels, `resolution` of them along the longest box side; the grid is
+// centred on the box (it may overhang a shorter side by less than a voxel).
+GridSpec grid_for_box(const Model& m, int resolution);
+
+struct BakeOptions {
+  int resolution = 128;
+  bool skip_empty = true;  // skip tiles whose shape bound proves them empty
+  bool lod = true;         // do not evaluate octaves finer than a voxel can hold
+  float tolerance = 0.0f;  // voxels with density <= tolerance are dropped (background 0)
+  int threads = 0;         // 0 = one per hardware thread
+};
+
+struct Tile {
+  std::array<int, 3> index;  // voxel index of the tile's first voxel
+  std::array<float, kTileVoxels> values;  // x fastest: values[(k*8 + j)*8 + i]
+};
+
+struct BakeStats {
+  std::int64_t tiles_total = 0, tiles_skipped = 0, tiles_evaluated = 0, tiles_kept = 0;
+  std::int64_t voxels_evaluated = 0, voxels_active = 0;
+  float lod_worley_octaves = 0, lod_perlin_octaves = 0;
+};
+
+struct BakeResult {
+  GridSpec grid;
+  std::vector<Tile> tiles;  // only tiles with at least one voxel above tolerance
+  BakeStats stats;
+};
+
+// Worst-case bytes a bake needs (tile storage plus an OpenVDB tree of the
+// tiles that the shape bound cannot prove empty); computed without noise.
+std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& options);
+
+struct Cancelled : std::exception {
+  const char* what() const noexcept override { return "cancelled"; }
+};
+
+// Evaluates the density on the grid. Throws Cancelled when progress returns false.
+BakeResult bake(const Model& m, const BakeOptions& options, const Progress& progress = {});
+
+// ---- 2D cross-section (the thesis's interactive preview, section 4.4) ----
+
+struct SliceSpec {
+  int axis = 0;         // 0 = x, 1 = y, 2 = z: the axis the plane is perpendicular to
+  float offset = 0.5f;  // plane position as a generated coordinate in [0, 1] (0.5 = centre)
+  int width = 256, height = 256;
+  bool lod = false;     // limit octaves to the pixel footprint
+  int threads = 0;
+};
+
+// Image axes: axis x → columns along +y, rows along z; axis y → columns +x,
+// rows z; axis z → columns +x, rows y. Row 0 is the top (largest coordinate).
+// The image spans the box face; pixel centres are sampled.
+void slice_axes(int axis, int& column_axis, int& row_axis);
+vec3 slice_point(const Model& m, const SliceSpec& s, int column, int row);
+
+// Row-major densities, height rows of width values.
+std::vector<float> slice(const Model& m, const SliceSpec& s);
+
+}  // namespace cg

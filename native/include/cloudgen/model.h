@@ -1,0 +1,82 @@
+// cloudgen/model.h — the C++ evaluator of the shared cloud model.
+//
+// prepare() turns validated user parameters into the physical, per-cloud
+// constants the kernel needs (mapping sliders, computing frequencies and the
+// wrapped noise offsets). density() evaluates eq. 3.4 at one point, in the
+// same order of operations as the OSL shaders (osl/), so both give the same
+// numbers. Everything here is pure: no I/O, no allocation, no globals.
+#pragma once
+
+#include "cloudgen/params.h"
+#include "cloudgen/shared/cloud_model.h"
+
+namespace cg {
+
+struct Model {
+  vec3 box;                 // box dimensions, scene units (> 0)
+  float cloud_scale;
+  int shape_mode;
+  float shape_exponent;
+  float curve[CG_CURVE_POINTS];
+  float distortion;
+  float density;            // physical multiplier (slider × 20)
+  float worley_frequency;   // lattice cells per scene unit
+  float perlin_frequency;
+  vec3 worley_offset;       // wrapped, in lattice units
+  vec3 perlin_offset;
+  float w4;                 // 4th noise coordinate (time × evolution, wrapped)
+  float worley_influence, worley_clump, wave, noise_influence, noise_detail, noise_whisp;
+  int seed;
+};
+
+// Octaves each noise may evaluate (level of detail); kNoLod evaluates all.
+struct Lod {
+  float worley_octaves = CG_MAX_OCTAVES;
+  float perlin_octaves = CG_MAX_OCTAVES;
+};
+inline constexpr Lod kNoLod{};
+
+// The kernel's safe domain: prepare() accepts any finite values (also beyond
+// the declared limits — the tests call it that way) and never yields NaN/Inf.
+Model prepare(const Params& params);
+
+// LOD for sampling with step `footprint` (scene units); 0 = no limit.
+Lod lod_for_footprint(const Model& m, float footprint);
+
+// Generated (box) coordinates of a local point: p / box + 1/2.
+inline vec3 generated(const Model& m, vec3 p) {
+  return {p[0] / m.box[0] + 0.5f, p[1] / m.box[1] + 0.5f, p[2] / m.box[2] + 0.5f};
+}
+
+inline bool inside_box(vec3 g) {
+  return g[0] >= 0.0f && g[0] <= 1.0f && g[1] >= 0.0f && g[1] <= 1.0f && g[2] >= 0.0f && g[2] <= 1.0f;
+}
+
+// Shape term S(T_z) - T_x^2 - T_y^2 at a local point.
+inline float shape_at(const Model& m, vec3 p) {
+  return cg_shape(generated(m, p), m.cloud_scale, m.shape_mode, m.shape_exponent, m.curve);
+}
+
+// Cloud Noise texture N in [0, 1] at a local point.
+inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
+  const vec3 pw = p * m.worley_frequency + m.worley_offset;
+  const vec3 pp = p * m.perlin_frequency + m.perlin_offset;
+  return cg_cloud_noise(pw, pp, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence,
+                        m.noise_detail, m.noise_whisp, lod.worley_octaves, lod.perlin_octaves, m.seed);
+}
+
+// Density at a local point: 0 outside the box and wherever the shape proves
+// it empty (no noise evaluated there), else eq. 3.4 clamped at 0 × Density.
+inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
+  const vec3 g = generated(m, p);
+  if (!inside_box(g)) return 0.0f;
+  const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, m.curve);
+  if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
+  return cg_cloud_main(s, noise_at(m, p, lod), m.distortion, m.density);
+}
+
+// An upper bound of the unscaled density (shape + |F|/2) over the axis-aligned
+// region [lo, hi] of local space. <= 0 proves every point of it empty.
+float shape_upper_bound(const Model& m, vec3 lo, vec3 hi);
+
+}  // namespace cg

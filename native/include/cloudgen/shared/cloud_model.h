@@ -1,0 +1,165 @@
+/* cloudgen/shared/cloud_model.h — the cloud density (thesis eq. 3.4) and the
+ * Cloud Noise distortion texture, shared by C++ and OSL.
+ *
+ * Coordinates. `p` is a point in the cloud object's local frame, in scene
+ * units: the origin at the box centre, axes along the box edges, the object's
+ * scale already folded into `box` (the box dimensions). The shape uses the
+ * generated coordinates G = p / box + 1/2 in [0,1]^3; the noise uses p itself
+ * (so it does not stretch with the box) plus a wrapped offset (Stationary,
+ * wind × time) prepared by cg_noise_offset.
+ *
+ * Every formula, constant and bound is written out in docs/model.md.
+ */
+#ifndef CLOUDGEN_SHARED_CLOUD_MODEL_H
+#define CLOUDGEN_SHARED_CLOUD_MODEL_H
+
+#include "noise.h"
+
+CG_NAMESPACE_BEGIN
+
+#define CG_CURVE_POINTS 17             /* shape curve samples at h = 0, 1/16, ..., 1 */
+#define CG_BASE_FREQUENCY CG_FLOAT(2.5) /* Worley cells per scene unit at Overall Scale 1 */
+#define CG_PERLIN_RELATIVE CG_FLOAT(2.0) /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
+#define CG_WORLEY_OCTAVES 2            /* thesis 4.2: fixed at 2 */
+#define CG_PERLIN_CONTRAST CG_FLOAT(1.0) /* P01 = 1/2 + contrast * fBm */
+#define CG_WAVE_FREQUENCY 1            /* sine periods per Worley cell along x */
+#define CG_WAVE_WARP CG_FLOAT(0.75)    /* phase warp of the sine by the gradient fBm, in periods */
+#define CG_TWO_PI CG_FLOAT(6.2831853)
+#define CG_COORD_LIMIT CG_FLOAT(1.0e9) /* kernel clamp of offsets and times (finite in, finite out) */
+#define CG_SEED_SALT_WORLEY 1597334677
+
+/* ---------------------------------------------------------------- shape --- */
+
+/* Piecewise-linear height curve, h in [0, 1]. */
+CG_FN float cg_curve_eval(CG_IN_ARRAY curve[CG_CURVE_POINTS], float h) {
+  float x = clamp(h, 0, 1) * (CG_CURVE_POINTS - 1);
+  int i = int(floor(x));
+  if (i > CG_CURVE_POINTS - 2) i = CG_CURVE_POINTS - 2;
+  if (i < 0) i = 0;
+  return mix(curve[i], curve[i + 1], x - i);
+}
+
+/* Height profile S(h): the squared radius of the body of revolution at height
+ * h (thesis 3.1.2/3.1.3). mode 0: exponent, S = 1 - (2 h^e - 1)^2 (the
+ * ellipsoid with its height axis bent by h^e); mode 1: the curve. Outside
+ * [0, 1] the profile falls off as -4 (h - clamp(h))^2, continuing the ellipsoid. */
+CG_FN float cg_profile(float h, int mode, float exponent, CG_IN_ARRAY curve[CG_CURVE_POINTS]) {
+  float hc = clamp(h, 0, 1);
+  float core = 0;
+  if (mode == 1) {
+    core = cg_curve_eval(curve, hc);
+  } else {
+    float u = 2 * pow(hc, clamp(exponent, CG_FLOAT(0.01), 100)) - 1;
+    core = 1 - u * u;
+  }
+  float out = h - hc;
+  return core - 4 * out * out;
+}
+
+/* Shape term of eq. 3.4: S(T_z) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
+CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent,
+                     CG_IN_ARRAY curve[CG_CURVE_POINTS]) {
+  float inv = 1 / clamp(fabs(cloud_scale), CG_FLOAT(0.001), 1000);
+  float tx = (2 * g[0] - 1) * inv;
+  float ty = (2 * g[1] - 1) * inv;
+  float tz = (2 * g[2] - 1) * inv;
+  return cg_profile((tz + 1) / 2, mode, exponent, curve) - tx * tx - ty * ty;
+}
+
+/* The distortion term F (1 - O) with O = N + 1/2 lies in [-|F|/2, |F|/2]; where
+ * the shape alone is at most -|F|/2 the density is provably 0. */
+CG_FN int cg_shape_proves_empty(float shape, float distortion) {
+  return shape + fabs(distortion) / 2 <= 0;
+}
+
+/* Cloud Main, eq. 3.4 with O = N + 1/2: D = S - T_x^2 - T_y^2 + F (1/2 - N),
+ * clamped at 0 and scaled by the density multiplier (>= 0). */
+CG_FN float cg_cloud_main(float shape, float noise, float distortion, float density) {
+  return max(shape + distortion * (CG_FLOAT(0.5) - noise), 0) * max(density, 0);
+}
+
+/* ------------------------------------------------------------ frequencies --- */
+
+/* Worley lattice cells per scene unit. */
+CG_FN float cg_worley_frequency(float overall_scale) {
+  return CG_BASE_FREQUENCY * clamp(overall_scale, CG_FLOAT(0.0001), 10000);
+}
+
+/* Gradient-noise lattice cells per scene unit. */
+CG_FN float cg_perlin_frequency(float overall_scale, float noise_scale) {
+  return cg_worley_frequency(overall_scale) * CG_PERLIN_RELATIVE * clamp(noise_scale, CG_FLOAT(0.0001), 10000);
+}
+
+/* Level of detail: how many octaves of a noise with base `frequency` (cells
+ * per scene unit, lacunarity 2) a sampling step `footprint` (scene units) can
+ * hold — octave k is kept while its cell spans at least two steps, the last
+ * one fades out. At least the first octave is always kept; footprint <= 0
+ * means no limit. */
+CG_FN float cg_lod_octaves(float frequency, float footprint) {
+  if (footprint <= 0) return CG_MAX_OCTAVES;
+  return clamp(1 + log2(CG_FLOAT(0.5) / (frequency * footprint)), 1, CG_MAX_OCTAVES);
+}
+
+/* ------------------------------------------------------------- animation --- */
+
+/* Offset of the noise field, in noise-lattice units, reduced modulo the
+ * lattice period: Stationary = 1 means the texture travels with the object, 0
+ * that it stays fixed in the world; wind shifts it by -velocity * time. */
+CG_FN CG_VEC3 cg_noise_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_direction,
+                              float wind_strength, float time, float frequency) {
+  float len = sqrt(wind_direction[0] * wind_direction[0] + wind_direction[1] * wind_direction[1] +
+                   wind_direction[2] * wind_direction[2]);
+  float t = clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
+  float travel = len > 0 ? clamp(wind_strength, -CG_COORD_LIMIT, CG_COORD_LIMIT) * t / len : 0;
+  float follow = 1 - clamp(stationary, 0, 1);
+  CG_VEC3 o = CG_VEC3(0, 0, 0);
+  for (int i = 0; i < 3; i += 1) {
+    float c = clamp(location[i], -CG_COORD_LIMIT, CG_COORD_LIMIT) * follow - wind_direction[i] * travel;
+    o[i] = cg_wrap(c * frequency);
+  }
+  return o;
+}
+
+/* 4th noise coordinate: time × evolution speed, wrapped. */
+CG_FN float cg_noise_time(float time, float evolution) {
+  float t = clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
+  float e = clamp(evolution, -CG_COORD_LIMIT, CG_COORD_LIMIT);
+  return cg_wrap(t * e);
+}
+
+/* ----------------------------------------------------------- cloud noise --- */
+
+/* Cloud Noise (thesis 3.3): the distortion texture N in [0, 1], neutral 1/2.
+ *   P  = gradient-noise fBm in [-1,1] (Noise Detail octaves, gain Noise Whisp)
+ *   W  = Worley-billow fBm in [0,1] (2 octaves, gain Worley Clump)
+ *   Sw = 1/2 + 1/2 sin(2 pi (f_wave x_w + warp P))          (sine texture)
+ *   N  = clamp(mix(1/2, mix(W, Sw, Wave), Worley Influence)
+ *              * mix(1, 1 + 2 contrast P, Noise Influence), 0, 1)   (Perlin–Worley)
+ * pw and pp are the points in Worley and gradient-noise lattice units. */
+CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influence,
+                           float worley_clump, float wave, float noise_influence,
+                           float noise_detail, float noise_whisp, float lod_worley_octaves,
+                           float lod_perlin_octaves, int seed) {
+  float wi = clamp(worley_influence, 0, 1);
+  float wv = clamp(wave, 0, 1);
+  float ni = clamp(noise_influence, 0, 1);
+  float p = 0;
+  if (ni > 0 || (wi > 0 && wv > 0))
+    p = cg_perlin_fbm(pp, w4, noise_detail, lod_perlin_octaves, noise_whisp, seed);
+  float billow = CG_FLOAT(0.5);
+  if (wi > 0) {
+    float worley = CG_FLOAT(0.5);
+    if (wv < 1)
+      worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump,
+                             seed ^ CG_SEED_SALT_WORLEY);
+    float sine = CG_FLOAT(0.5);
+    if (wv > 0)
+      sine = CG_FLOAT(0.5) + CG_FLOAT(0.5) * sin(CG_TWO_PI * (CG_WAVE_FREQUENCY * pw[0] + CG_WAVE_WARP * p));
+    billow = mix(CG_FLOAT(0.5), mix(worley, sine, wv), wi);
+  }
+  return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * p, ni), 0, 1);
+}
+
+CG_NAMESPACE_END
+
+#endif /* CLOUDGEN_SHARED_CLOUD_MODEL_H */

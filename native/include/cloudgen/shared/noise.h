@@ -1,0 +1,209 @@
+/* cloudgen/shared/noise.h — hash, 4D gradient noise, Worley F1 and their fBm.
+ *
+ * Shared by C++ and OSL (see lang.h for the rules). Every function here is
+ * pure and bounded; docs/model.md gives the formulas and the proofs of the
+ * bounds. All lattices have period CG_PERIOD in every axis, so any offset may
+ * be reduced modulo CG_PERIOD before it meets a small local coordinate; that
+ * is what keeps the noise exact far from the origin.
+ */
+#ifndef CLOUDGEN_SHARED_NOISE_H
+#define CLOUDGEN_SHARED_NOISE_H
+
+#include "lang.h"
+
+CG_NAMESPACE_BEGIN
+
+#define CG_PERIOD 256          /* lattice period of every noise, in lattice cells */
+#define CG_PERIOD_MASK 255
+#define CG_MAX_OCTAVES 16      /* hard cap on fBm octaves (also the kernel's clamp) */
+#define CG_MAX_GAIN 8          /* kernel clamp of fBm gain */
+#define CG_WORLEY_JITTER CG_FLOAT(0.9)  /* feature point stays in the middle 90 % of its cell */
+/* 1 / (largest |raw 4D gradient noise| seen in 10^8 random samples, rounded down);
+ * the result is clamped to [-1, 1] so the bound holds by construction. */
+#define CG_PERLIN_NORM CG_FLOAT(0.75)
+/* per-octave shift so that lattice points of successive octaves do not line up */
+#define CG_OCTAVE_SHIFT CG_FLOAT(0.3183099)
+
+/* lowbias32 finalizer (C. Wellons): a full-avalanche 32-bit integer mix. */
+CG_FN int cg_mix32(int v) {
+  int x = v;
+  x = x ^ cg_shr(x, 16);
+  x = cg_imul(x, 2146121005);  /* 0x7feb352d */
+  x = x ^ cg_shr(x, 15);
+  x = cg_imul(x, -2073254261); /* 0x846ca68b as a signed 32-bit int */
+  x = x ^ cg_shr(x, 16);
+  return x;
+}
+
+/* 24 low bits of a hash as a float in [0, 1): exact in both languages. */
+CG_FN float cg_hash_unit(int h) { return float(h & 16777215) / 16777216; }
+
+/* x reduced to [0, CG_PERIOD]; the lattice is periodic, so the noise value is
+ * unchanged, and the integer cell index can never overflow. */
+CG_FN float cg_wrap(float x) { return x - CG_PERIOD * floor(x / CG_PERIOD); }
+
+CG_FN float cg_fade(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+
+/* Dot product of one of 32 gradients (the permutations of (±1,±1,±1,0)) with d. */
+CG_FN float cg_grad4(int h, float x, float y, float z, float w) {
+  int j = h & 31;
+  float a = j < 24 ? x : y;
+  float b = j < 16 ? y : z;
+  float c = j < 8 ? z : w;
+  return ((j & 1) ? -a : a) + ((j & 2) ? -b : b) + ((j & 4) ? -c : c);
+}
+
+/* Interpolation along x between the two corners of one lattice edge. */
+CG_FN float cg_perlin4_x(int hy, int ix0, int ix1, float dx, float dy, float dz, float dw, float ux) {
+  float g0 = cg_grad4(cg_mix32(ix0 ^ hy), dx, dy, dz, dw);
+  float g1 = cg_grad4(cg_mix32(ix1 ^ hy), dx - 1, dy, dz, dw);
+  return mix(g0, g1, ux);
+}
+
+CG_FN float cg_perlin4_xy(int hz, int ix0, int ix1, int iy0, int iy1,
+                          float dx, float dy, float dz, float dw, float ux, float uy) {
+  float a = cg_perlin4_x(cg_mix32(iy0 ^ hz), ix0, ix1, dx, dy, dz, dw, ux);
+  float b = cg_perlin4_x(cg_mix32(iy1 ^ hz), ix0, ix1, dx, dy - 1, dz, dw, ux);
+  return mix(a, b, uy);
+}
+
+CG_FN float cg_perlin4_xyz(int hw, int ix0, int ix1, int iy0, int iy1, int iz0, int iz1,
+                           float dx, float dy, float dz, float dw, float ux, float uy, float uz) {
+  float a = cg_perlin4_xy(cg_mix32(iz0 ^ hw), ix0, ix1, iy0, iy1, dx, dy, dz, dw, ux, uy);
+  float b = cg_perlin4_xy(cg_mix32(iz1 ^ hw), ix0, ix1, iy0, iy1, dx, dy, dz - 1, dw, ux, uy);
+  return mix(a, b, uz);
+}
+
+/* 4D gradient (Perlin) noise, quintic fade, integer hash; result in [-1, 1]. */
+CG_FN float cg_perlin4(float px, float py, float pz, float pw, int seed) {
+  float x = cg_wrap(px);
+  float y = cg_wrap(py);
+  float z = cg_wrap(pz);
+  float w = cg_wrap(pw);
+  float fx = floor(x);
+  float fy = floor(y);
+  float fz = floor(z);
+  float fw = floor(w);
+  int ix0 = int(fx) & CG_PERIOD_MASK;
+  int iy0 = int(fy) & CG_PERIOD_MASK;
+  int iz0 = int(fz) & CG_PERIOD_MASK;
+  int iw0 = int(fw) & CG_PERIOD_MASK;
+  int ix1 = (ix0 + 1) & CG_PERIOD_MASK;
+  int iy1 = (iy0 + 1) & CG_PERIOD_MASK;
+  int iz1 = (iz0 + 1) & CG_PERIOD_MASK;
+  int iw1 = (iw0 + 1) & CG_PERIOD_MASK;
+  float dx = x - fx;
+  float dy = y - fy;
+  float dz = z - fz;
+  float dw = w - fw;
+  float ux = cg_fade(dx);
+  float uy = cg_fade(dy);
+  float uz = cg_fade(dz);
+  float uw = cg_fade(dw);
+  float n0 = cg_perlin4_xyz(cg_mix32(iw0 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1,
+                            dx, dy, dz, dw, ux, uy, uz);
+  float n1 = cg_perlin4_xyz(cg_mix32(iw1 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1,
+                            dx, dy, dz, dw - 1, ux, uy, uz);
+  return clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
+}
+
+/* Feature point coordinate inside its cell, in [0.05, 0.95]. */
+CG_FN float cg_feature(int h) { return CG_FLOAT(0.5) + CG_WORLEY_JITTER * (cg_hash_unit(h) - CG_FLOAT(0.5)); }
+
+/* Worley F1: distance to the nearest feature point, one point per cell, the
+ * 27 cells around p searched. Exact because each feature point lies inside its
+ * own cell (tests compare with a 125-cell search). Result in [0, sqrt(3)*0.95]. */
+CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
+  float x = cg_wrap(px);
+  float y = cg_wrap(py);
+  float z = cg_wrap(pz);
+  float fx = floor(x);
+  float fy = floor(y);
+  float fz = floor(z);
+  int ix = int(fx) & CG_PERIOD_MASK;
+  int iy = int(fy) & CG_PERIOD_MASK;
+  int iz = int(fz) & CG_PERIOD_MASK;
+  float dx = x - fx;
+  float dy = y - fy;
+  float dz = z - fz;
+  float best = 16;
+  for (int k = -1; k <= 1; k += 1) {
+    int hz = cg_mix32(((iz + k) & CG_PERIOD_MASK) ^ seed);
+    for (int j = -1; j <= 1; j += 1) {
+      int hy = cg_mix32(((iy + j) & CG_PERIOD_MASK) ^ hz);
+      for (int i = -1; i <= 1; i += 1) {
+        int h = cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy);
+        float ox = i + cg_feature(h) - dx;
+        float oy = j + cg_feature(cg_mix32(h ^ 1013904223)) - dy;
+        float oz = k + cg_feature(cg_mix32(h ^ 1664525)) - dz;
+        best = min(best, ox * ox + oy * oy + oz * oz);
+      }
+    }
+  }
+  return sqrt(best);
+}
+
+/* Weight of octave k when `octaves` (possibly fractional) are asked for: 1 for
+ * whole octaves, the fractional part for the last one (a smooth fade), 0 after. */
+CG_FN float cg_octave_weight(float octaves, int k) { return clamp(octaves - k, 0, 1); }
+
+/* fBm of 4D gradient noise, lacunarity 2, normalised by the sum of the
+ * amplitudes of the `octaves` asked for, so the result stays in [-1, 1] for
+ * every gain and octave count. Octaves beyond `lod_octaves` (finer than the
+ * sampling can hold) are not evaluated: their mean, 0, stands in for them. */
+CG_FN float cg_perlin_fbm(CG_VEC3 p, float w, float octaves, float lod_octaves, float gain, int seed) {
+  float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
+  float n_eval = min(n_decl, lod_octaves);
+  float g = clamp(gain, 0, CG_MAX_GAIN);
+  float sum = 0;
+  float norm = 0;
+  float amp = 1;
+  float freq = 1;
+  for (int k = 0; k < CG_MAX_OCTAVES; k += 1) {
+    float wd = cg_octave_weight(n_decl, k);
+    if (wd <= 0) break;
+    norm += amp * wd;
+    float we = cg_octave_weight(n_eval, k);
+    if (we > 0) {
+      float s = k * CG_OCTAVE_SHIFT;
+      sum += amp * we * cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s,
+                                   cg_mix32(seed ^ k));
+    }
+    amp *= g;
+    freq *= 2;
+  }
+  return norm > 0 ? sum / norm : 0;
+}
+
+/* fBm of the Worley billow term smoothstep(0, 1, F1), lacunarity 2, normalised
+ * like cg_perlin_fbm; result in [0, 1], small near feature points. */
+CG_FN float cg_worley_fbm(CG_VEC3 p, float octaves, float lod_octaves, float gain, int seed) {
+  float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
+  float n_eval = min(n_decl, lod_octaves);
+  float g = clamp(gain, 0, CG_MAX_GAIN);
+  float sum = 0;
+  float norm = 0;
+  float amp = 1;
+  float freq = 1;
+  for (int k = 0; k < CG_MAX_OCTAVES; k += 1) {
+    float wd = cg_octave_weight(n_decl, k);
+    if (wd <= 0) break;
+    norm += amp * wd;
+    float we = cg_octave_weight(n_eval, k);
+    /* an octave not evaluated stands in with the mean of its term, about 1/2 */
+    float term = CG_FLOAT(0.5);
+    if (we > 0) {
+      float s = k * CG_OCTAVE_SHIFT;
+      float f1 = cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, cg_mix32(seed ^ k));
+      term = mix(term, smoothstep(0, 1, f1), we);
+    }
+    sum += amp * wd * term;
+    amp *= g;
+    freq *= 2;
+  }
+  return norm > 0 ? sum / norm : CG_FLOAT(0.5);
+}
+
+CG_NAMESPACE_END
+
+#endif /* CLOUDGEN_SHARED_NOISE_H */

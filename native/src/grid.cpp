@@ -1,0 +1,158 @@
+// grid.cpp — sparse, level-of-detail bake of the density and the 2D slice.
+#include "cloudgen/grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cg {
+
+GridSpec grid_for_box(const Model& m, int resolution) {
+  GridSpec g{};
+  const float longest = std::max({m.box[0], m.box[1], m.box[2]});
+  g.voxel = longest / float(std::max(resolution, 1));
+  for (int a = 0; a < 3; ++a) {
+    g.n[a] = std::max(1, static_cast<int>(std::ceil(m.box[a] / g.voxel - 1e-4f)));
+    g.origin[a] = -0.5f * float(g.n[a]) * g.voxel;
+  }
+  return g;
+}
+
+namespace {
+
+struct TileRange {
+  int lo[3], hi[3];  // voxel index range [lo, hi)
+};
+
+TileRange tile_range(const GridSpec& g, std::int64_t t) {
+  const int tx = g.tiles(0), ty = g.tiles(1);
+  const int c[3] = {int(t % tx), int((t / tx) % ty), int(t / (std::int64_t(tx) * ty))};
+  TileRange r{};
+  for (int a = 0; a < 3; ++a) {
+    r.lo[a] = c[a] * kTile;
+    r.hi[a] = std::min(r.lo[a] + kTile, g.n[a]);
+  }
+  return r;
+}
+
+// Upper bound of the unscaled density over the voxel centres of a tile.
+float tile_bound(const Model& m, const GridSpec& g, const TileRange& r) {
+  const vec3 lo = g.centre(r.lo[0], r.lo[1], r.lo[2]);
+  const vec3 hi = g.centre(r.hi[0] - 1, r.hi[1] - 1, r.hi[2] - 1);
+  return shape_upper_bound(m, lo, hi);
+}
+
+std::int64_t tile_count(const GridSpec& g) {
+  return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2);
+}
+
+}  // namespace
+
+std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
+  const GridSpec g = grid_for_box(m, o.resolution);
+  const std::int64_t total = tile_count(g);
+  // Counting candidates one by one is cheap (no noise) up to ~10^8 tiles;
+  // beyond that the worst case (every tile) is the estimate.
+  std::int64_t candidates = total;
+  if (o.skip_empty && total <= (std::int64_t(1) << 27)) {
+    candidates = 0;
+    for (std::int64_t t = 0; t < total; ++t)
+      if (tile_bound(m, g, tile_range(g, t)) > 0.0f) ++candidates;
+  }
+  // 4 bytes per voxel in the tile list, ~5.5 bytes per active voxel in an
+  // OpenVDB float tree (measured, NOTES.md), and the tile index.
+  const double per_tile = kTileVoxels * (4.0 + 5.5) + 64.0;
+  return static_cast<std::int64_t>(double(candidates) * per_tile);
+}
+
+BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) {
+  BakeResult result;
+  result.grid = grid_for_box(m, o.resolution);
+  const GridSpec& g = result.grid;
+  const Lod lod = o.lod ? lod_for_footprint(m, g.voxel) : kNoLod;
+  result.stats.lod_worley_octaves = lod.worley_octaves;
+  result.stats.lod_perlin_octaves = lod.perlin_octaves;
+
+  const std::int64_t total = tile_count(g);
+  const int threads = resolve_threads(o.threads);
+  struct WorkerOut {
+    std::vector<Tile> tiles;
+    BakeStats stats;
+  };
+  std::vector<WorkerOut> out(threads);
+
+  auto body = [&](std::int64_t t, int worker) {
+    WorkerOut& w = out[worker];
+    const TileRange r = tile_range(g, t);
+    if (o.skip_empty && tile_bound(m, g, r) <= 0.0f) {
+      ++w.stats.tiles_skipped;
+      return;
+    }
+    ++w.stats.tiles_evaluated;
+    Tile tile;
+    tile.index = {r.lo[0], r.lo[1], r.lo[2]};
+    tile.values.fill(0.0f);
+    std::int64_t active = 0;
+    for (int k = r.lo[2]; k < r.hi[2]; ++k)
+      for (int j = r.lo[1]; j < r.hi[1]; ++j)
+        for (int i = r.lo[0]; i < r.hi[0]; ++i) {
+          float d = density(m, g.centre(i, j, k), lod);
+          if (d <= o.tolerance) d = 0.0f;
+          active += d > 0.0f;
+          tile.values[((k - r.lo[2]) * kTile + (j - r.lo[1])) * kTile + (i - r.lo[0])] = d;
+          ++w.stats.voxels_evaluated;
+        }
+    if (active > 0) {
+      w.stats.voxels_active += active;
+      ++w.stats.tiles_kept;
+      w.tiles.push_back(tile);
+    }
+  };
+
+  if (!parallel_for(total, threads, body, progress)) throw Cancelled();
+
+  result.stats.tiles_total = total;
+  for (WorkerOut& w : out) {
+    result.stats.tiles_skipped += w.stats.tiles_skipped;
+    result.stats.tiles_evaluated += w.stats.tiles_evaluated;
+    result.stats.tiles_kept += w.stats.tiles_kept;
+    result.stats.voxels_evaluated += w.stats.voxels_evaluated;
+    result.stats.voxels_active += w.stats.voxels_active;
+    for (Tile& t : w.tiles) result.tiles.push_back(t);
+  }
+  // Deterministic order, whatever the thread schedule was.
+  std::sort(result.tiles.begin(), result.tiles.end(),
+            [](const Tile& a, const Tile& b) { return a.index < b.index; });
+  return result;
+}
+
+void slice_axes(int axis, int& column_axis, int& row_axis) {
+  column_axis = axis == 0 ? 1 : 0;
+  row_axis = axis == 2 ? 1 : 2;
+}
+
+vec3 slice_point(const Model& m, const SliceSpec& s, int column, int row) {
+  int ca, ra;
+  slice_axes(s.axis, ca, ra);
+  vec3 gcoord;
+  gcoord[s.axis] = s.offset;
+  gcoord[ca] = (float(column) + 0.5f) / float(s.width);
+  gcoord[ra] = 1.0f - (float(row) + 0.5f) / float(s.height);
+  return {(gcoord[0] - 0.5f) * m.box[0], (gcoord[1] - 0.5f) * m.box[1], (gcoord[2] - 0.5f) * m.box[2]};
+}
+
+std::vector<float> slice(const Model& m, const SliceSpec& s) {
+  std::vector<float> image(std::size_t(s.width) * std::size_t(s.height), 0.0f);
+  int ca, ra;
+  slice_axes(s.axis, ca, ra);
+  const float footprint = std::max(m.box[ca] / float(s.width), m.box[ra] / float(s.height));
+  const Lod lod = s.lod ? lod_for_footprint(m, footprint) : kNoLod;
+  // Small images are not worth a thread start.
+  const int threads = std::int64_t(s.width) * s.height < 4096 ? 1 : resolve_threads(s.threads);
+  parallel_for(s.height, threads, [&](std::int64_t row, int) {
+    for (int c = 0; c < s.width; ++c)
+      image[std::size_t(row) * s.width + c] = density(m, slice_point(m, s, c, int(row)), lod);
+  });
+  return image;
+}
+
+}  // namespace cg

@@ -1,0 +1,94 @@
+// model.cpp — prepare() and the region bound used to skip provably empty space.
+#include "cloudgen/model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cg {
+
+namespace {
+
+float finite_clamp(float v, float lo, float hi) { return std::clamp(v, lo, hi); }
+
+// Largest squared value |t|^2 can take its minimum at over [a, b].
+float min_square(float a, float b) {
+  if (a <= 0.0f && b >= 0.0f) return 0.0f;
+  return std::min(a * a, b * b);
+}
+
+// Maximum of the profile's core (no outside fall-off) over [a, b] ⊂ [0, 1].
+float core_max(const Model& m, float a, float b) {
+  if (m.shape_mode == 1) {
+    float best = std::max(cg_curve_eval(m.curve, a), cg_curve_eval(m.curve, b));
+    for (int i = 0; i < CG_CURVE_POINTS; ++i) {
+      const float h = float(i) / float(CG_CURVE_POINTS - 1);
+      if (h > a && h < b) best = std::max(best, m.curve[i]);
+    }
+    return best;
+  }
+  // 1 - u^2 with u = 2 h^e - 1 increasing in h: the largest value is where |u| is smallest.
+  const float e = std::clamp(m.shape_exponent, 0.01f, 100.0f);
+  const float ua = 2.0f * pow(a, e) - 1.0f;
+  const float ub = 2.0f * pow(b, e) - 1.0f;
+  return 1.0f - min_square(ua, ub);
+}
+
+}  // namespace
+
+Model prepare(const Params& p) {
+  Model m{};
+  for (int i = 0; i < 3; ++i)
+    m.box[i] = finite_clamp(std::fabs(p.get(BOX_SIZE, i)), 1e-6f, 1e9f);
+  m.cloud_scale = p.get(CLOUD_SCALE);
+  m.shape_mode = p.get(SHAPE_MODE) >= 0.5f ? 1 : 0;
+  m.shape_exponent = p.get(SHAPE_EXPONENT);
+  for (int i = 0; i < CG_CURVE_POINTS; ++i) m.curve[i] = finite_clamp(p.get(SHAPE_CURVE, i), -1e6f, 1e6f);
+  m.distortion = finite_clamp(p.get(DISTORTION), -1e6f, 1e6f);
+  m.density = finite_clamp(p.physical(DENSITY), 0.0f, 1e6f);
+
+  const float overall = p.get(OVERALL_SCALE);
+  m.worley_frequency = cg_worley_frequency(overall);
+  m.perlin_frequency = cg_perlin_frequency(overall, p.get(NOISE_SCALE));
+
+  const vec3 location = p.vector(OBJECT_LOCATION);
+  const vec3 wind = p.vector(WIND_DIRECTION);
+  const float stationary = p.get(STATIONARY);
+  const float strength = p.physical(WIND_STRENGTH);
+  const float time = p.get(TIME);
+  m.worley_offset = cg_noise_offset(location, stationary, wind, strength, time, m.worley_frequency);
+  m.perlin_offset = cg_noise_offset(location, stationary, wind, strength, time, m.perlin_frequency);
+  m.w4 = cg_noise_time(time, p.get(EVOLUTION));
+
+  m.worley_influence = p.get(WORLEY_INFLUENCE);
+  m.worley_clump = p.get(WORLEY_CLUMP);
+  m.wave = p.get(WAVE);
+  m.noise_influence = p.get(NOISE_INFLUENCE);
+  m.noise_detail = p.get(NOISE_DETAIL);
+  m.noise_whisp = p.get(NOISE_WHISP);
+  m.seed = static_cast<int>(finite_clamp(p.get(SEED), -1073741824.0f, 1073741824.0f));
+  return m;
+}
+
+Lod lod_for_footprint(const Model& m, float footprint) {
+  return {cg_lod_octaves(m.worley_frequency, footprint), cg_lod_octaves(m.perlin_frequency, footprint)};
+}
+
+float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
+  float t_lo[3], t_hi[3];
+  const float inv = 1.0f / std::clamp(std::fabs(m.cloud_scale), 0.001f, 1000.0f);
+  for (int i = 0; i < 3; ++i) {
+    const float half = 0.5f * m.box[i];
+    const float a = std::max(lo[i], -half), b = std::min(hi[i], half);
+    if (a > b) return -1.0f;  // no part of the region is inside the box
+    // T = (2G - 1) / cloud_scale = 2 p / box / cloud_scale, increasing in p
+    t_lo[i] = 2.0f * (a / m.box[i]) * inv;
+    t_hi[i] = 2.0f * (b / m.box[i]) * inv;
+  }
+  const float h_lo = std::clamp((t_lo[2] + 1.0f) * 0.5f, 0.0f, 1.0f);
+  const float h_hi = std::clamp((t_hi[2] + 1.0f) * 0.5f, 0.0f, 1.0f);
+  const float s_max = core_max(m, h_lo, h_hi) - min_square(t_lo[0], t_hi[0]) - min_square(t_lo[1], t_hi[1]);
+  // 1e-4 absorbs the rounding differences between this bound and the kernel
+  return s_max + 0.5f * std::fabs(m.distortion) + 1e-4f;
+}
+
+}  // namespace cg
