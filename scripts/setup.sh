@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Installs what cloudgen needs and builds it — idempotent: a second run only
+# checks and rebuilds what changed.
+#   Debian packages   (apt-get, only those missing)
+#   .venv             Python virtual environment made with the python3 on PATH,
+#                     with cmake, ninja, numpy, pytest; cloudgen_native on its path
+#   build/            Release build: core, CLI (build/bin/cloudgen), Python module
+# Usage: scripts/setup.sh [--tests]   (--tests also installs what only the tests need)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+want_tests=0
+[[ "${1:-}" == "--tests" ]] && want_tests=1
+
+log() { printf '[setup] %s\n' "$*"; }
+
+# ---- Debian packages -------------------------------------------------------
+apt_packages=(g++ make pkg-config libopenvdb-dev libopenimageio-dev libboost-iostreams-dev
+              nlohmann-json3-dev libgtest-dev)
+if ((want_tests)); then
+  # blender: Debian's 3.4 binary loads our VDBs in a test (it has no OSL)
+  apt_packages+=(blender)
+fi
+missing=()
+for p in "${apt_packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  log "installing Debian packages: ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -q
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# ---- Python environment ----------------------------------------------------
+if [[ ! -x .venv/bin/python ]]; then
+  log "creating .venv with $(command -v python3) ($(python3 --version))"
+  python3 -m venv .venv
+fi
+req_stamp=.venv/.cloudgen-requirements
+if [[ ! -f $req_stamp ]] || ! cmp -s requirements.txt "$req_stamp"; then
+  log "installing Python packages (requirements.txt)"
+  .venv/bin/python -m pip install -q --upgrade pip
+  .venv/bin/python -m pip install -q -r requirements.txt
+  cp requirements.txt "$req_stamp"
+fi
+# cloudgen_native is importable from the venv through a .pth file naming build/python
+site=$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+echo "$root/build/python" > "$site/cloudgen_native_build.pth"
+
+# ---- build -----------------------------------------------------------------
+export PATH="$root/.venv/bin:$PATH"
+if [[ ! -f build/CMakeCache.txt ]]; then
+  log "configuring build/"
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DPython3_EXECUTABLE="$root/.venv/bin/python" >build-configure.log 2>&1 \
+    || { cat build-configure.log; exit 1; }
+fi
+log "building (build/)"
+cmake --build build --parallel "$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
+test "${PIPESTATUS[0]}" -eq 0
+log "ready: build/bin/cloudgen, .venv/bin/python -c 'import cloudgen_native'"

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# All the tests: set up (with the test-only packages), the native tests
+# (ctest), the same native tests under AddressSanitizer + UBSan in a second
+# build directory, and the Python tests (pytest: module, CLI, round trips).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+scripts/setup.sh --tests
+export PATH="$root/.venv/bin:$PATH"
+
+echo "== native tests (build/)"
+ctest --test-dir build --output-on-failure --parallel "$(nproc)"
+
+echo "== native tests under ASan+UBSan (build-sanitize/)"
+if [[ ! -f build-sanitize/CMakeCache.txt ]]; then
+  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLOUDGEN_SANITIZE=ON \
+    -DCLOUDGEN_WITH_IO=OFF -DCLOUDGEN_WITH_PYTHON=OFF >/dev/null
+fi
+cmake --build build-sanitize --parallel "$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
+test "${PIPESTATUS[0]}" -eq 0
+ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  CLOUDGEN_TEST_SCALE=sanitize ctest --test-dir build-sanitize --output-on-failure --parallel "$(nproc)"
+
+echo "== Python tests"
+python -m pytest -q tests/python
