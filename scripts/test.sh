@@ -14,7 +14,7 @@ ctest --test-dir build --output-on-failure --parallel "$(nproc)"
 echo "== native tests under ASan+UBSan (build-sanitize/)"
 if [[ ! -f build-sanitize/CMakeCache.txt ]]; then
   cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLOUDGEN_SANITIZE=ON \
-    -DCLOUDGEN_WITH_IO=OFF -DCLOUDGEN_WITH_PYTHON=OFF >/dev/null
+    -DCLOUDGEN_WITH_IO=OFF -DCLOUDGEN_WITH_PYTHON=OFF -DCLOUDGEN_WITH_BENCH=OFF >/dev/null
 fi
 cmake --build build-sanitize --parallel "$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
 test "${PIPESTATUS[0]}" -eq 0
