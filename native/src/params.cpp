@@ -10,9 +10,9 @@ namespace cg {
 // Default height curve (Shape Gradient, mode 1): a cumulus profile — a flat
 // base that widens within the first eighth of the height, the widest point at
 // a quarter, then a dome tapering to the top. Values are squared radii.
-const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.55f, 0.80f, 0.90f, 0.92f, 0.90f,
-                                              0.86f, 0.80f, 0.72f, 0.63f, 0.53f, 0.43f,
-                                              0.33f, 0.23f, 0.14f, 0.06f, 0.00f};
+const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.70f, 0.85f, 0.90f, 0.90f, 0.87f,
+                                              0.82f, 0.75f, 0.67f, 0.58f, 0.48f, 0.38f,
+                                              0.28f, 0.19f, 0.11f, 0.04f, 0.00f};
 
 // clang-format off
 const ParamDecl kParams[PARAM_COUNT] = {

@@ -18,6 +18,7 @@
 CG_NAMESPACE_BEGIN
 
 #define CG_CURVE_POINTS 17             /* shape curve samples at h = 0, 1/16, ..., 1 */
+#define CG_PROFILE_FALLOFF 16          /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
 #define CG_BASE_FREQUENCY CG_FLOAT(2.5) /* Worley cells per scene unit at Overall Scale 1 */
 #define CG_PERLIN_RELATIVE CG_FLOAT(2.0) /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
 #define CG_WORLEY_OCTAVES 2            /* thesis 4.2: fixed at 2 */
@@ -42,7 +43,9 @@ CG_FN float cg_curve_eval(CG_IN_ARRAY curve[CG_CURVE_POINTS], float h) {
 /* Height profile S(h): the squared radius of the body of revolution at height
  * h (thesis 3.1.2/3.1.3). mode 0: exponent, S = 1 - (2 h^e - 1)^2 (the
  * ellipsoid with its height axis bent by h^e); mode 1: the curve. Outside
- * [0, 1] the profile falls off as -4 (h - clamp(h))^2, continuing the ellipsoid. */
+ * [0, 1] the profile falls off as -CG_PROFILE_FALLOFF (h - clamp(h))^2: four times
+ * steeper than the ellipsoid would continue, so that billows do not hang
+ * below a flat cloud base. */
 CG_FN float cg_profile(float h, int mode, float exponent, CG_IN_ARRAY curve[CG_CURVE_POINTS]) {
   float hc = clamp(h, 0, 1);
   float core = 0;
@@ -53,7 +56,7 @@ CG_FN float cg_profile(float h, int mode, float exponent, CG_IN_ARRAY curve[CG_C
     core = 1 - u * u;
   }
   float out = h - hc;
-  return core - 4 * out * out;
+  return core - CG_PROFILE_FALLOFF * out * out;
 }
 
 /* Shape term of eq. 3.4: S(T_z) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
