@@ -1,1 +1,280 @@
-// placeholder: being written
+// cli/commands.cpp — argument parsing, parameter loading, and the read-only
+// verbs: presets, params, info. (bake and preview live in bake.cpp.)
+#include "cli/commands.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cloudgen/param_io.h"
+#include "io/atomic_file.h"
+#include "io/vdb_io.h"
+
+namespace cli {
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+std::optional<long long> parse_integer(const std::string& s) {
+  long long v = 0;
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b != e && *b == '+') ++b;
+  auto [ptr, ec] = std::from_chars(b, e, v);
+  if (ec != std::errc() || ptr != e || b == e) return std::nullopt;
+  return v;
+}
+
+std::optional<double> parse_number(const std::string& s) {
+  if (s.empty() || s.find_first_not_of("0123456789+-.eE") != std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// ---- Args ----
+
+Args::Args(const std::string& verb, const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs)
+    : verb_(verb) {
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (a == "--help" || a == "-h") {
+      help_ = true;
+      continue;
+    }
+    if (a.size() < 2 || a[0] != '-' || (a.size() >= 2 && std::isdigit(static_cast<unsigned char>(a[1])))) {
+      positional_.push_back(a);
+      continue;
+    }
+    const auto eq = a.find('=');
+    const std::string name = a.substr(0, eq);
+    const OptionSpec* spec = nullptr;
+    for (const OptionSpec& s : specs)
+      if (name == s.name) spec = &s;
+    if (!spec) throw UsageError("unknown option '" + name + "' for '" + verb + "' (see `cloudgen " + verb + " --help`)");
+    if (values_.count(name)) throw UsageError("option '" + name + "' given twice");
+    if (!spec->takes_value) {
+      if (eq != std::string::npos) throw UsageError("option '" + name + "' takes no value");
+      values_[name] = "";
+    } else if (eq != std::string::npos) {
+      values_[name] = a.substr(eq + 1);
+    } else {
+      if (i + 1 >= argv.size()) throw UsageError("option '" + name + "' needs a value");
+      values_[name] = argv[++i];
+    }
+  }
+}
+
+std::optional<std::string> Args::get(const std::string& name) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string Args::text(const std::string& name) const {
+  auto v = get(name);
+  if (!v) throw UsageError(name + " is required (see `cloudgen " + verb_ + " --help`)");
+  if (v->empty()) throw UsageError(name + " must not be empty");
+  return *v;
+}
+
+long long Args::integer(const std::string& name, long long lo, long long hi) const {
+  const std::string range = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  auto v = get(name);
+  if (!v) throw UsageError(name + " is required: " + range);
+  const auto x = parse_integer(*v);
+  if (!x || *x < lo || *x > hi) throw UsageError(name + " must be " + range + "; got '" + *v + "'");
+  return *x;
+}
+
+static std::string fmt_num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+double Args::number(const std::string& name, double lo, double hi, bool lo_open) const {
+  const std::string range = "a finite number in " + std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " +
+                            fmt_num(hi) + "]";
+  auto v = get(name);
+  if (!v) throw UsageError(name + " is required: " + range);
+  const auto x = parse_number(*v);
+  if (!x || *x < lo || *x > hi || (lo_open && *x == lo))
+    throw UsageError(name + " must be " + range + "; got '" + *v + "'");
+  return *x;
+}
+
+// ---- parameters ----
+
+cg::Params load_params(const Args& args, std::string& preset) {
+  const bool has_preset = args.has("--preset"), has_file = args.has("--params");
+  if (has_preset == has_file) throw UsageError("give exactly one of --preset NAME or --params FILE.json");
+  if (has_preset) {
+    const std::string name = *args.get("--preset");
+    const cg::Preset* p = cg::find_preset(name);
+    if (!p) {
+      std::string names;
+      for (const cg::Preset& q : cg::presets()) names += (names.empty() ? "" : ", ") + q.name;
+      throw UsageError("--preset '" + name + "' is not a preset; choose one of: " + names);
+    }
+    preset = p->name;
+    return p->params;
+  }
+  const std::string path = *args.get("--params");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError("--params '" + path + "': cannot read (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw UsageError("--params '" + path + "': read error");
+  preset.clear();
+  return cg::params_from_json(text.str(), "--params " + path);
+}
+
+// ---- presets ----
+
+static const char* const kPresetsHelp =
+    "usage: cloudgen presets [--json]\n"
+    "\n"
+    "Lists the cloud types (presets) with a one-line description. --json prints\n"
+    "the presets data file itself (every preset with its parameter values).\n"
+    "Use a preset with `cloudgen bake --preset NAME` or as \"preset\" in a\n"
+    "parameter file.\n";
+
+int cmd_presets(const std::vector<std::string>& argv) {
+  Args a("presets", argv, {{"--json", false}});
+  if (a.help()) return std::cout << kPresetsHelp, kExitOk;
+  if (!a.positional().empty()) throw UsageError("presets: unexpected argument '" + a.positional()[0] + "'");
+  if (a.has("--json")) {
+    std::cout << cg::presets_json();
+    return kExitOk;
+  }
+  for (const cg::Preset& p : cg::presets()) std::printf("%-12s %s\n", p.name.c_str(), p.description.c_str());
+  return kExitOk;
+}
+
+// ---- params ----
+
+static const char* const kParamsHelp =
+    "usage: cloudgen params [--json | --defaults]\n"
+    "\n"
+    "Lists every parameter a parameter file (--params FILE.json) may set: its\n"
+    "key, kind, default, accepted range, unit and meaning. Values outside the\n"
+    "range, NaN and Inf are refused.\n"
+    "  --json      the declarations as JSON (name, label, group, kind, count,\n"
+    "              default, min, max, soft_min, soft_max, map, unit, help)\n"
+    "  --defaults  a parameter file holding every default value\n"
+    "\n"
+    "A parameter file is one JSON object, e.g.\n"
+    "  {\"preset\": \"cumulus\", \"density\": 0.8, \"box_size\": [4, 4, 3]}\n"
+    "\"preset\" (optional) names the cloud type to start from; missing keys keep\n"
+    "their defaults; vectors and the shape curve are lists.\n";
+
+static std::string value_text(const cg::Params& p, cg::P id) {
+  const cg::ParamDecl& d = cg::kParams[id];
+  const int n = cg::component_count(d.kind);
+  std::string s = n > 1 ? "[" : "";
+  for (int c = 0; c < n; ++c) s += (c ? ", " : "") + fmt_num(p.get(id, c));
+  return n > 1 ? s + "]" : s;
+}
+
+int cmd_params(const std::vector<std::string>& argv) {
+  Args a("params", argv, {{"--json", false}, {"--defaults", false}});
+  if (a.help()) return std::cout << kParamsHelp, kExitOk;
+  if (!a.positional().empty()) throw UsageError("params: unexpected argument '" + a.positional()[0] + "'");
+  if (a.has("--json")) {
+    std::cout << cg::declarations_json(2) << "\n";
+    return kExitOk;
+  }
+  if (a.has("--defaults")) {
+    std::cout << cg::params_to_json(cg::Params(), 2) << "\n";
+    return kExitOk;
+  }
+  const cg::Params defaults;
+  std::string group;
+  for (int i = 0; i < cg::PARAM_COUNT; ++i) {
+    const cg::ParamDecl& d = cg::kParams[i];
+    if (group != d.group) {
+      group = d.group;
+      std::printf("%s%s\n", i ? "\n" : "", d.group);
+      std::printf("  %-18s %-6s %-16s %-22s %s\n", "key", "kind", "default", "range", "unit — meaning");
+    }
+    std::string def = value_text(defaults, static_cast<cg::P>(i));
+    if (def.size() > 16) def = def.substr(0, 13) + "...";
+    const std::string range = "[" + fmt_num(d.min) + ", " + fmt_num(d.max) + "]";
+    std::printf("  %-18s %-6s %-16s %-22s %s — %s\n", d.key, cg::kind_name(d.kind), def.c_str(), range.c_str(),
+                d.unit, d.help);
+  }
+  return kExitOk;
+}
+
+// ---- info ----
+
+static const char* const kInfoHelp =
+    "usage: cloudgen info FILE.vdb [--json]\n"
+    "\n"
+    "Reads a VDB file with OpenVDB and prints, for every grid: name, class,\n"
+    "value type, voxel size, transform, active voxel count, index bounding\n"
+    "box, minimum and maximum of the active values, and all metadata (for\n"
+    "cloudgen files: version, parameters, preset, time, resolution, LOD).\n"
+    "  --json   the same as one JSON object\n"
+    "Exit code 1 when the file is missing or not a readable VDB file.\n";
+
+int cmd_info(const std::vector<std::string>& argv) {
+  Args a("info", argv, {{"--json", false}});
+  if (a.help()) return std::cout << kInfoHelp, kExitOk;
+  if (a.positional().size() != 1) throw UsageError("info needs exactly one FILE.vdb argument");
+  const std::string path = a.positional()[0];
+  if (cgio::file_size(path) < 0) throw cgio::IoError("cannot read '" + path + "': " + std::strerror(errno));
+  const cgio::VdbFileInfo f = cgio::read_vdb_info(path);
+  if (a.has("--json")) {
+    nlohmann::json doc = {{"file", path}, {"bytes", cgio::file_size(path)}, {"version", f.version},
+                          {"compression", f.compression}, {"grids", nlohmann::json::array()}};
+    for (const cgio::VdbGridInfo& g : f.grids)
+      doc["grids"].push_back({{"name", g.name}, {"class", g.grid_class}, {"value_type", g.value_type},
+                              {"voxel_size", g.voxel_size}, {"linear", g.linear}, {"half", g.half},
+                              {"active_voxels", g.active_voxels}, {"leaf_count", g.leaf_count},
+                              {"empty", g.empty}, {"bbox_min", g.bbox_min}, {"bbox_max", g.bbox_max},
+                              {"min", g.min}, {"max", g.max}, {"background", g.background},
+                              {"metadata", g.metadata}});
+    std::cout << doc.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::printf("file: %s (%lld bytes, OpenVDB file version %s, compression %s)\n", path.c_str(),
+              cgio::file_size(path), f.version.c_str(), f.compression.c_str());
+  std::printf("grids: %zu\n", f.grids.size());
+  for (const cgio::VdbGridInfo& g : f.grids) {
+    std::printf("grid: %s\n", g.name.c_str());
+    std::printf("  class: %s\n", g.grid_class.c_str());
+    std::printf("  value type: %s (saved as half: %s)\n", g.value_type.c_str(), g.half ? "yes" : "no");
+    std::printf("  voxel size: %g %g %g (%s transform)\n", g.voxel_size[0], g.voxel_size[1], g.voxel_size[2],
+                g.linear ? "linear" : "non-linear");
+    std::printf("  active voxels: %lld\n", static_cast<long long>(g.active_voxels));
+    std::printf("  leaf nodes: %lld\n", static_cast<long long>(g.leaf_count));
+    if (g.empty) {
+      std::printf("  index bbox: empty\n");
+    } else {
+      std::printf("  index bbox: [%d %d %d] .. [%d %d %d]\n", g.bbox_min[0], g.bbox_min[1], g.bbox_min[2],
+                  g.bbox_max[0], g.bbox_max[1], g.bbox_max[2]);
+      std::printf("  min: %.9g\n  max: %.9g\n", g.min, g.max);
+    }
+    std::printf("  background: %g\n", g.background);
+    std::printf("  metadata:\n");
+    for (const auto& [k, v] : g.metadata) std::printf("    %s: %s\n", k.c_str(), one_line(v).c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace cli

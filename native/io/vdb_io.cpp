@@ -1,1 +1,196 @@
-// placeholder: being written
+// io/vdb_io.cpp — the only translation unit that includes OpenVDB.
+#include "io/vdb_io.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/io/Compression.h>
+#include <openvdb/tools/Count.h>
+
+#include <mutex>
+
+#include "cloudgen/param_io.h"
+#include "io/atomic_file.h"
+
+namespace cgio {
+
+namespace {
+
+void init_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// Builds the tree leaf by leaf from the 8^3 tiles, which are aligned exactly
+// like OpenVDB's leaf nodes (origin multiple of 8). Tiles are x-fastest;
+// leaves are z-fastest, so the offset is recomputed per voxel.
+openvdb::FloatGrid::Ptr grid_from_bake(const cg::BakeResult& bake) {
+  static_assert(openvdb::FloatTree::LeafNodeType::DIM == cg::kTile, "tile = leaf");
+  auto grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName("density");
+  grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+  const cg::GridSpec& g = bake.grid;
+  const double v = g.voxel;
+  auto xform = openvdb::math::Transform::createLinearTransform(v);
+  xform->postTranslate(openvdb::Vec3d(double(g.origin[0]) + 0.5 * v, double(g.origin[1]) + 0.5 * v,
+                                      double(g.origin[2]) + 0.5 * v));
+  grid->setTransform(xform);
+  auto& tree = grid->tree();
+  for (const cg::Tile& tile : bake.tiles) {
+    openvdb::FloatTree::LeafNodeType* leaf = nullptr;
+    for (int k = 0; k < cg::kTile; ++k)
+      for (int j = 0; j < cg::kTile; ++j)
+        for (int i = 0; i < cg::kTile; ++i) {
+          const float d = tile.values[(k * cg::kTile + j) * cg::kTile + i];
+          if (!(d > 0.0f)) continue;  // background: inactive 0 (also drops NaN, which the kernel never makes)
+          if (!leaf) leaf = tree.touchLeaf(openvdb::Coord(tile.index[0], tile.index[1], tile.index[2]));
+          leaf->setValueOn(openvdb::Index((i << 6) | (j << 3) | k), d);
+        }
+  }
+  return grid;
+}
+
+VdbGridInfo describe(const openvdb::GridBase& grid) {
+  VdbGridInfo info;
+  info.name = grid.getName();
+  info.grid_class = openvdb::GridBase::gridClassToString(grid.getGridClass());
+  info.value_type = grid.valueType();
+  const openvdb::Vec3d vs = grid.voxelSize();
+  info.voxel_size = {vs[0], vs[1], vs[2]};
+  info.linear = grid.transform().isLinear();
+  info.half = grid.saveFloatAsHalf();
+  info.active_voxels = static_cast<std::int64_t>(grid.activeVoxelCount());
+  const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+  info.empty = grid.empty() || info.active_voxels == 0;
+  if (!info.empty) {
+    info.bbox_min = {box.min().x(), box.min().y(), box.min().z()};
+    info.bbox_max = {box.max().x(), box.max().y(), box.max().z()};
+  }
+  if (const auto* fg = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {
+    info.leaf_count = static_cast<std::int64_t>(fg->tree().leafCount());
+    info.background = fg->background();
+    if (!info.empty) {
+      const auto mm = openvdb::tools::minMax(fg->tree());
+      info.min = mm.min();
+      info.max = mm.max();
+    }
+  }
+  for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it)
+    if (it->second) info.metadata[it->first] = it->second->str();
+  return info;
+}
+
+template <typename F>
+auto guarded(const std::string& what, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const IoError&) {
+    throw;
+  } catch (const openvdb::Exception& e) {
+    throw IoError(what + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw IoError(what + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWriteOptions& o) {
+  init_openvdb();
+  guarded("cannot write '" + path + "'", [&] {
+    auto grid = grid_from_bake(bake);
+    grid->insertMeta("cloudgen_version", openvdb::StringMetadata(cg::version()));
+    grid->insertMeta("cloudgen_params", openvdb::StringMetadata(o.params_json));
+    if (!o.preset.empty()) grid->insertMeta("cloudgen_preset", openvdb::StringMetadata(o.preset));
+    grid->insertMeta("cloudgen_time", openvdb::FloatMetadata(o.time));
+    grid->insertMeta("cloudgen_resolution", openvdb::Int32Metadata(o.resolution));
+    grid->insertMeta("cloudgen_lod_worley_octaves", openvdb::FloatMetadata(bake.stats.lod_worley_octaves));
+    grid->insertMeta("cloudgen_lod_perlin_octaves", openvdb::FloatMetadata(bake.stats.lod_perlin_octaves));
+    grid->setSaveFloatAsHalf(o.half);
+
+    openvdb::io::File file(path);
+    std::uint32_t compression = openvdb::io::COMPRESS_ACTIVE_MASK;
+    if (openvdb::io::Archive::hasBloscCompression()) compression |= openvdb::io::COMPRESS_BLOSC;
+    file.setCompression(compression);
+    openvdb::GridPtrVec grids{grid};
+    file.write(grids);
+    file.close();
+    if (file_size(path) <= 0) throw IoError("cannot write '" + path + "': nothing was written");
+  });
+}
+
+VdbFileInfo read_vdb_info(const std::string& path) {
+  init_openvdb();
+  return guarded("cannot read '" + path + "'", [&] {
+    openvdb::io::File file(path);
+    file.open(false);  // no delayed loading: we read it all now, while the file is ours
+    VdbFileInfo out;
+    out.version = file.version();
+    out.compression = openvdb::io::compressionToString(file.compression());
+    auto grids = file.getGrids();
+    file.close();
+    if (grids)
+      for (const auto& g : *grids)
+        if (g) out.grids.push_back(describe(*g));
+    return out;
+  });
+}
+
+struct VdbFloatGrid::Impl {
+  openvdb::FloatGrid::Ptr grid;
+};
+
+VdbFloatGrid::VdbFloatGrid(const std::string& path, const std::string& name) : impl_(new Impl) {
+  init_openvdb();
+  guarded("cannot read '" + path + "'", [&] {
+    openvdb::io::File file(path);
+    file.open(false);
+    if (!file.hasGrid(name)) throw IoError("'" + path + "' has no grid named '" + name + "'");
+    auto base = file.readGrid(name);
+    file.close();
+    impl_->grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (!impl_->grid) throw IoError("'" + path + "': grid '" + name + "' is not a float grid");
+    info_ = describe(*impl_->grid);
+  });
+}
+
+VdbFloatGrid::~VdbFloatGrid() = default;
+VdbFloatGrid::VdbFloatGrid(VdbFloatGrid&&) noexcept = default;
+
+float VdbFloatGrid::value(int i, int j, int k) const {
+  return impl_->grid->tree().getValue(openvdb::Coord(i, j, k));
+}
+
+bool VdbFloatGrid::active(int i, int j, int k) const {
+  return impl_->grid->tree().isValueOn(openvdb::Coord(i, j, k));
+}
+
+std::array<double, 3> VdbFloatGrid::index_to_world(double i, double j, double k) const {
+  const openvdb::Vec3d w = impl_->grid->transform().indexToWorld(openvdb::Vec3d(i, j, k));
+  return {w[0], w[1], w[2]};
+}
+
+std::vector<VdbFloatGrid::Voxel> VdbFloatGrid::active_voxels() const {
+  std::vector<Voxel> out;
+  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
+    if (!it.isVoxelValue()) {  // an active tile: report each voxel it covers
+      openvdb::CoordBBox b;
+      it.getBoundingBox(b);
+      for (auto c = b.begin(); c; ++c) out.push_back({{(*c).x(), (*c).y(), (*c).z()}, *it});
+      continue;
+    }
+    const openvdb::Coord c = it.getCoord();
+    out.push_back({{c.x(), c.y(), c.z()}, *it});
+  }
+  return out;
+}
+
+std::vector<VdbFloatGrid::Voxel> VdbFloatGrid::all_leaf_values() const {
+  std::vector<Voxel> out;
+  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf)
+    for (auto it = leaf->cbeginValueAll(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      out.push_back({{c.x(), c.y(), c.z()}, *it});
+    }
+  return out;
+}
+
+}  // namespace cgio
