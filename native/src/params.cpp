@@ -19,7 +19,7 @@ const ParamDecl kParams[PARAM_COUNT] = {
   // key, label, group, kind, default, min, max, soft_min, soft_max, map_lo, map_hi, unit, help
   {"cloud_scale", "Cloud Scale", "Cloud Main", Kind::Float, {0.85f}, 0.05f, 1.0f, 0.05f, 1.0f, 0, 1,
    "fraction of the box", "Size of the cloud inside its box: 1 touches the box faces, smaller values shrink it about the centre."},
-  {"density", "Density", "Cloud Main", Kind::Float, {0.5f}, 0.0f, 10.0f, 0.0f, 1.0f, 0, 20,
+  {"density", "Density", "Cloud Main", Kind::Float, {0.5f}, 0.0f, 10.0f, 0.0f, 1.0f, 0, CG_DENSITY_SCALE,
    "slider (x20 per scene unit)", "Density handed to the volume shader: 1 means 20 per scene unit where the cloud is thickest."},
   {"distortion", "Distortion", "Cloud Main", Kind::Float, {0.7f}, 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
    "", "How strongly the Cloud Noise texture distorts the shape (F in eq. 3.4)."},

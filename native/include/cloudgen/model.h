@@ -52,10 +52,14 @@ inline bool inside_box(vec3 g) {
   return g[0] >= 0.0f && g[0] <= 1.0f && g[1] >= 0.0f && g[1] <= 1.0f && g[2] >= 0.0f && g[2] <= 1.0f;
 }
 
-// Shape term S(T_z) - T_x^2 - T_y^2 at a local point.
-inline float shape_at(const Model& m, vec3 p) {
-  return cg_shape(generated(m, p), m.cloud_scale, m.shape_mode, m.shape_exponent, m.curve);
+// Shape term at generated coordinates g: the curve (if used) is evaluated here.
+inline float shape_at_generated(const Model& m, vec3 g) {
+  const float curve_value = m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_height(g[2], m.cloud_scale)) : 0.0f;
+  return cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value);
 }
+
+// Shape term S(h) - T_x^2 - T_y^2 at a local point.
+inline float shape_at(const Model& m, vec3 p) { return shape_at_generated(m, generated(m, p)); }
 
 // Cloud Noise texture N in [0, 1] at a local point.
 inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
@@ -70,7 +74,7 @@ inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
 inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   const vec3 g = generated(m, p);
   if (!inside_box(g)) return 0.0f;
-  const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, m.curve);
+  const float s = shape_at_generated(m, g);
   if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
   return cg_cloud_main(s, noise_at(m, p, lod), m.distortion, m.density);
 }

@@ -19,6 +19,7 @@ CG_NAMESPACE_BEGIN
 
 #define CG_CURVE_POINTS 17             /* shape curve samples at h = 0, 1/16, ..., 1 */
 #define CG_PROFILE_FALLOFF 16          /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
+#define CG_DENSITY_SCALE 20             /* physical density = 20 x the Density slider, per scene unit */
 #define CG_BASE_FREQUENCY CG_FLOAT(2.5) /* Worley cells per scene unit at Overall Scale 1 */
 #define CG_PERLIN_RELATIVE CG_FLOAT(2.0) /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
 #define CG_WORLEY_OCTAVES 2            /* thesis 4.2: fixed at 2 */
@@ -40,18 +41,26 @@ CG_FN float cg_curve_eval(CG_IN_ARRAY curve[CG_CURVE_POINTS], float h) {
   return mix(curve[i], curve[i + 1], x - i);
 }
 
+/* Height parameter of the profile: h = (T_z + 1) / 2 with T_z = (2 G_z - 1) / cloud_scale;
+ * the cloud spans h in [0, 1]. */
+CG_FN float cg_height(float gz, float cloud_scale) {
+  float inv = 1 / clamp(fabs(cloud_scale), CG_FLOAT(0.001), 1000);
+  return ((2 * gz - 1) * inv + 1) / 2;
+}
+
 /* Height profile S(h): the squared radius of the body of revolution at height
  * h (thesis 3.1.2/3.1.3). mode 0: exponent, S = 1 - (2 h^e - 1)^2 (the
- * ellipsoid with its height axis bent by h^e); mode 1: the curve. Outside
- * [0, 1] the profile falls off as -CG_PROFILE_FALLOFF (h - clamp(h))^2: four times
+ * ellipsoid with its height axis bent by h^e); mode 1: `curve_value`, the
+ * height curve evaluated at clamp(h, 0, 1) by the caller (C++: cg_curve_eval
+ * on the 17 samples; Blender: a Float Curve node with vector handles through
+ * the same samples, feeding the Shape Gradient socket). Outside [0, 1] the
+ * profile falls off as -CG_PROFILE_FALLOFF (h - clamp(h))^2: four times
  * steeper than the ellipsoid would continue, so that billows do not hang
  * below a flat cloud base. */
-CG_FN float cg_profile(float h, int mode, float exponent, CG_IN_ARRAY curve[CG_CURVE_POINTS]) {
+CG_FN float cg_profile(float h, int mode, float exponent, float curve_value) {
   float hc = clamp(h, 0, 1);
-  float core = 0;
-  if (mode == 1) {
-    core = cg_curve_eval(curve, hc);
-  } else {
+  float core = curve_value;
+  if (mode != 1) {
     float u = 2 * pow(hc, clamp(exponent, CG_FLOAT(0.01), 100)) - 1;
     core = 1 - u * u;
   }
@@ -59,14 +68,12 @@ CG_FN float cg_profile(float h, int mode, float exponent, CG_IN_ARRAY curve[CG_C
   return core - CG_PROFILE_FALLOFF * out * out;
 }
 
-/* Shape term of eq. 3.4: S(T_z) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
-CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent,
-                     CG_IN_ARRAY curve[CG_CURVE_POINTS]) {
+/* Shape term of eq. 3.4: S(h) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
+CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value) {
   float inv = 1 / clamp(fabs(cloud_scale), CG_FLOAT(0.001), 1000);
   float tx = (2 * g[0] - 1) * inv;
   float ty = (2 * g[1] - 1) * inv;
-  float tz = (2 * g[2] - 1) * inv;
-  return cg_profile((tz + 1) / 2, mode, exponent, curve) - tx * tx - ty * ty;
+  return cg_profile(cg_height(g[2], cloud_scale), mode, exponent, curve_value) - tx * tx - ty * ty;
 }
 
 /* The distortion term F (1 - O) with O = N + 1/2 lies in [-|F|/2, |F|/2]; where
