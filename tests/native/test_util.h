@@ -1,0 +1,92 @@
+// test_util.h — helpers shared by the native kernel tests: a seeded,
+// platform-independent RNG and the sample-count scale (CLOUDGEN_TEST_SCALE).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+
+#include "cloudgen/model.h"
+#include "cloudgen/params.h"
+
+namespace cgtest {
+
+// SplitMix64: fixed seeds give the same sequence on every platform and
+// standard library (std::uniform_real_distribution does not promise that).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : s_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  // Uniform in [0, 1) with 53 bits.
+  double unit() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+  float uniformf(double lo, double hi) { return static_cast<float>(uniform(lo, hi)); }
+  int integer(int lo, int hi) { return lo + int(next() % std::uint64_t(hi - lo + 1)); }
+
+ private:
+  std::uint64_t s_;
+};
+
+// CLOUDGEN_TEST_SCALE=sanitize shrinks the sample counts (the sanitized build
+// is 3-10x slower); a number multiplies them.
+inline double scale() {
+  const char* s = std::getenv("CLOUDGEN_TEST_SCALE");
+  if (!s || !*s) return 1.0;
+  if (std::strcmp(s, "sanitize") == 0) return 0.1;
+  const double v = std::atof(s);
+  return v > 0.0 ? v : 1.0;
+}
+inline bool sanitize() {
+  const char* s = std::getenv("CLOUDGEN_TEST_SCALE");
+  return s && std::strcmp(s, "sanitize") == 0;
+}
+// `full` samples scaled, but never fewer than `floor_count`.
+inline std::int64_t count(std::int64_t full, std::int64_t floor_count) {
+  return std::max<std::int64_t>(floor_count, std::int64_t(double(full) * scale()));
+}
+
+inline std::string str(cg::vec3 p) {
+  std::ostringstream o;
+  o.precision(9);
+  o << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return o.str();
+}
+
+// Every parameter value that differs from its default, for failure messages.
+inline std::string describe(const cg::Params& p) {
+  const cg::Params d;
+  std::ostringstream o;
+  o.precision(9);
+  o << "{";
+  bool first = true;
+  for (int i = 0; i < cg::PARAM_COUNT; ++i) {
+    const cg::ParamDecl& decl = cg::kParams[i];
+    for (int c = 0; c < cg::component_count(decl.kind); ++c) {
+      const float v = p.get(cg::P(i), c);
+      if (std::memcmp(&v, &d.values[cg::slot_of(cg::P(i)) + c], sizeof v) == 0) continue;
+      o << (first ? "" : ", ") << decl.key;
+      if (cg::component_count(decl.kind) > 1) o << "[" << c << "]";
+      o << "=" << v;
+      first = false;
+    }
+  }
+  o << "}";
+  return o.str();
+}
+
+// Noise switched off: N = 1/2 everywhere, so density = max(shape, 0) * Density.
+inline void noise_off(cg::Params& p) {
+  p.set(cg::WORLEY_INFLUENCE, 0.0f);
+  p.set(cg::NOISE_INFLUENCE, 0.0f);
+}
+
+}  // namespace cgtest
