@@ -131,7 +131,9 @@ TEST(Noise, FbmBoundsForEveryGainAndOctaveCount) {
         const double sd = std::sqrt(sum2 / double(np) - (sum / double(np)) * (sum / double(np)));
         // Not degenerate when every octave is evaluated (with a LOD below the octave
         // count the missing octaves stand in with their mean 0, so the spread shrinks).
-        if (lod >= float(CG_MAX_OCTAVES)) EXPECT_GT(sd, 0.05) << "perlin fBm degenerate: octaves " << o << " gain " << g;
+        if (lod >= float(CG_MAX_OCTAVES)) {
+          EXPECT_GT(sd, 0.05) << "perlin fBm degenerate: octaves " << o << " gain " << g;
+        }
         for (std::int64_t i = 0; i < nw; ++i) {
           const cg::vec3 p(rng.uniformf(-100, 100), rng.uniformf(-100, 100), rng.uniformf(-100, 100));
           const float v = cg::cg_worley_fbm(p, o, lod, g, 9);
