@@ -72,7 +72,8 @@ Args::Args(const std::string& verb, const std::vector<std::string>& argv, const 
     } else if (eq != std::string::npos) {
       values_[name] = a.substr(eq + 1);
     } else {
-      if (i + 1 >= argv.size()) throw UsageError("option '" + name + "' needs a value");
+      if (i + 1 >= argv.size() || argv[i + 1].rfind("--", 0) == 0)
+        throw UsageError("option '" + name + "' needs a value");
       values_[name] = argv[++i];
     }
   }
@@ -140,7 +141,14 @@ cg::Params load_params(const Args& args, std::string& preset) {
   text << in.rdbuf();
   if (in.bad()) throw UsageError("--params '" + path + "': read error");
   preset.clear();
-  return cg::params_from_json(text.str(), "--params " + path);
+  try {
+    return cg::params_from_json(text.str(), "--params " + path);
+  } catch (const cg::ParamError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // nlohmann's out_of_range (e.g. 1e999) is not a parse_error and escapes params_from_json.
+    throw UsageError("--params " + path + ": not valid JSON (" + e.what() + ")");
+  }
 }
 
 // ---- presets ----
