@@ -1,0 +1,156 @@
+"""Render a cloud procedurally with the cloudgen OSL shaders in Cycles (bpy wheel).
+
+Usage: .venv/bin/python scripts/render_cloud.py --preset cumulus --output out/cumulus.png
+       [--params FILE.json] [--size 320x240] [--samples 32] [--step-rate 0.05] [--seed 0]
+
+Builds a small scene — the cloud box with a Principled Volume fed by Cloud
+Main, a camera looking at it from slightly below, a sun and a blue sky — and
+renders it on the CPU with OSL, denoising off (the output is what the model
+computes, not a denoiser's guess). Writes the image atomically.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import pathlib
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "osl"))
+
+
+def parse_args(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    src = ap.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="cloud type (see `cloudgen presets`)")
+    src.add_argument("--params", help="JSON parameter file (see docs/model.md)")
+    ap.add_argument("--output", required=True, help="PNG (8-bit) or EXR (float) file to write")
+    ap.add_argument("--size", default="320x240", help="WxH pixels (default 320x240)")
+    ap.add_argument("--samples", type=int, default=32, help="samples per pixel (default 32)")
+    ap.add_argument("--step-rate", type=float, default=0.05,
+                    help="volume step rate of the material (Cycles; default 0.05)")
+    ap.add_argument("--seed", type=int, default=0, help="Cycles sampling seed")
+    ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
+    return ap.parse_args(argv)
+
+
+def resolve_params(args):
+    import cloudgen_native as cn
+
+    given = {"preset": args.preset} if args.preset else json.loads(pathlib.Path(args.params).read_text())
+    preset = given.pop("preset", None)
+    if preset is not None and preset not in cn.presets():
+        raise SystemExit(f"render_cloud: error: unknown preset {preset!r}; known: {sorted(cn.presets())}")
+    values = dict(cn.presets()[preset]["params"] if preset else cn.defaults())
+    values.update(given)
+    cn.density(values, [[0.0, 0.0, 0.0]])  # validates every value (ValueError names the key)
+    return values
+
+
+def build_scene(values, args):
+    import bpy
+    import blender_nodes
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.shading_system = True
+    scene.cycles.samples = args.samples
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = args.seed
+    scene.cycles.volume_bounces = 2
+    scene.cycles.max_bounces = 4
+    scene.render.threads_mode = "FIXED" if args.threads else "AUTO"
+    if args.threads:
+        scene.render.threads = args.threads
+    w, h = (int(v) for v in args.size.lower().split("x"))
+    scene.render.resolution_x, scene.render.resolution_y = w, h
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+
+    box = values["box_size"]
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, box[2] / 2))
+    cloud = bpy.context.active_object
+    cloud.name = "Cloud"
+    cloud.scale = box
+    mat = bpy.data.materials.new("Cloud")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    coords = nt.nodes.new("ShaderNodeTexCoord")
+    main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"])
+    volume = nt.nodes.new("ShaderNodeVolumePrincipled")
+    volume.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    volume.inputs["Anisotropy"].default_value = 0.3
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(main.outputs["Density"], volume.inputs["Density"])
+    nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
+    mat.cycles.volume_step_rate = args.step_rate
+    cloud.data.materials.append(mat)
+
+    # camera below the cloud's middle, looking up at its centre
+    size = max(box)
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = 50
+    cam = bpy.data.objects.new("Camera", cam_data)
+    scene.collection.objects.link(cam)
+    distance = 1.9 * size
+    cam.location = (0.0, -distance, box[2] * 0.3)
+    pitch_up = math.atan2(box[2] * 0.5 - cam.location[2], distance)
+    cam.rotation_euler = (math.radians(90.0) + pitch_up, 0.0, 0.0)
+    scene.camera = cam
+
+    sun_data = bpy.data.lights.new("Sun", "SUN")
+    sun_data.energy = 4.0
+    sun_data.angle = math.radians(1.0)
+    sun = bpy.data.objects.new("Sun", sun_data)
+    sun.rotation_euler = (math.radians(40), math.radians(0), math.radians(-35))
+    scene.collection.objects.link(sun)
+
+    world = bpy.data.worlds.new("Sky")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.25, 0.45, 0.85, 1.0)
+    bg.inputs["Strength"].default_value = 0.8
+    scene.world = world
+    return scene
+
+
+def render(scene, output):
+    import bpy
+
+    output = pathlib.Path(output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    fmt = "OPEN_EXR" if output.suffix.lower() == ".exr" else "PNG"
+    scene.render.image_settings.file_format = fmt
+    if fmt == "OPEN_EXR":
+        scene.render.image_settings.color_depth = "32"
+    fd, tmp = tempfile.mkstemp(prefix=output.name + ".", suffix=output.suffix, dir=output.parent)
+    os.close(fd)
+    try:
+        scene.render.filepath = tmp
+        t0 = time.perf_counter()
+        bpy.ops.render.render(write_still=True)
+        seconds = time.perf_counter() - t0
+        os.replace(tmp, output)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    return seconds
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    values = resolve_params(args)
+    scene = build_scene(values, args)
+    seconds = render(scene, args.output)
+    print(f"render: wrote {args.output} ({args.size}, {args.samples} spp) in {seconds:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
