@@ -169,7 +169,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
   const cg::GridSpec spec = cg::grid_for_box(first, opts.resolution);
   if (gib > budget_gib) {
     char msg[256];
-    std::snprintf(msg, sizeof msg, "--resolution %d needs an estimated %.1f GiB, more than --max-memory %g GiB",
+    std::snprintf(msg, sizeof msg, "--resolution %d needs an estimated %.3g GiB, more than --max-memory %g GiB",
                   opts.resolution, gib, budget_gib);
     throw UsageError(msg);
   }
