@@ -1,5 +1,223 @@
-// placeholder: being written
-#define Py_LIMITED_API 0x030B0000
-#include <Python.h>
-static struct PyModuleDef def = {PyModuleDef_HEAD_INIT, "cloudgen_native", nullptr, -1, nullptr, nullptr, nullptr, nullptr, nullptr};
-PyMODINIT_FUNC PyInit_cloudgen_native(void) { return PyModule_Create(&def); }
+// module.cpp — the cloudgen_native extension module: thin bindings over the core.
+//
+// Plain CPython C API under the limited API (abi3, Python >= 3.11), so the one
+// build loads in every Blender with Python 3.11 or later. Links only the pure
+// core: no OpenVDB, OpenImageIO or TBB (DESIGN.md §2). numpy is imported at
+// run time to create output arrays; its C headers are not used.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "arrays.h"
+#include "cloudgen/grid.h"
+#include "cloudgen/model.h"
+#include "cloudgen/param_io.h"
+#include "cloudgen/parallel.h"
+#include "convert.h"
+
+namespace cgpy {
+namespace {
+
+constexpr long long kMaxImageSide = 8192;
+constexpr long long kMaxThreads = 256;
+constexpr std::int64_t kPointsPerTask = 4096;  // density(): work item of the parallel loop
+
+int threads_arg(PyObject* o) {
+  if (!o) return 0;
+  const long long t = int_arg(o, "threads must be an integer in [0, 256] (0 = one per core)");
+  if (t < 0 || t > kMaxThreads)
+    raise(PyExc_ValueError, "threads must be an integer in [0, 256] (0 = one per core); got " + std::to_string(t));
+  return static_cast<int>(t);
+}
+
+// ---------------------------------------------------------------- tables ---
+
+PyObject* py_parameters(PyObject*, PyObject*) {
+  return guarded([] {
+    Ref list = check(PyList_New(cg::PARAM_COUNT));
+    for (int i = 0; i < cg::PARAM_COUNT; ++i)
+      check_status(PyList_SetItem(list.get(), i, declaration_to_py(static_cast<cg::P>(i)).release()));
+    return list.release();
+  });
+}
+
+PyObject* py_presets(PyObject*, PyObject*) {
+  return guarded([] {
+    Ref dict = check(PyDict_New());
+    for (const cg::Preset& preset : cg::presets()) {
+      Ref entry = check(PyDict_New());
+      set_item(entry.get(), "description", str_to_py(preset.description.c_str()));
+      set_item(entry.get(), "params", params_to_py(preset.params));
+      set_item(dict.get(), preset.name.c_str(), std::move(entry));
+    }
+    return dict.release();
+  });
+}
+
+PyObject* py_defaults(PyObject*, PyObject*) {
+  return guarded([] { return params_to_py(cg::Params()).release(); });
+}
+
+PyObject* py_resolve_params(PyObject*, PyObject* params) {
+  return guarded([&] { return params_to_py(params_from_py(params)).release(); });
+}
+
+// ---------------------------------------------------------------- density ---
+
+PyObject* py_density(PyObject*, PyObject* args, PyObject* kwargs) {
+  return guarded([&] {
+    static const char* kwlist[] = {"params", "points", "threads", nullptr};
+    PyObject *params_obj = nullptr, *points_obj = nullptr, *threads_obj = nullptr;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|O:density", const_cast<char**>(kwlist), &params_obj,
+                                     &points_obj, &threads_obj))
+      throw PyErrorSet{};
+    const cg::Params params = params_from_py(params_obj);
+    const int threads = threads_arg(threads_obj);
+    const std::vector<float> points = points_from_py(points_obj);  // owned copy, safe without the GIL
+    const auto n = static_cast<std::int64_t>(points.size() / 3);
+    OutputArray out;
+    new_float32_array(out, static_cast<Py_ssize_t>(n));
+    float* result = out.data();  // held by out.buffer until we return
+    without_gil([&] {
+      const cg::Model model = cg::prepare(params);
+      const std::int64_t tasks = (n + kPointsPerTask - 1) / kPointsPerTask;
+      cg::parallel_for(tasks, tasks > 1 ? cg::resolve_threads(threads) : 1, [&](std::int64_t task, int) {
+        const std::int64_t end = std::min(n, (task + 1) * kPointsPerTask);
+        for (std::int64_t i = task * kPointsPerTask; i < end; ++i) {
+          const float* p = &points[static_cast<std::size_t>(i) * 3];
+          result[i] = cg::density(model, cg::vec3{p[0], p[1], p[2]});
+        }
+      });
+    });
+    return out.array.release();
+  });
+}
+
+// ------------------------------------------------------------------ slice ---
+
+int axis_arg(PyObject* o) {
+  static const char* expect = "axis must be 'x', 'y', 'z' or 0, 1, 2";
+  if (PyUnicode_Check(o)) {
+    Py_ssize_t size = 0;
+    const char* s = PyUnicode_AsUTF8AndSize(o, &size);
+    if (!s) throw PyErrorSet{};
+    if (size == 1) {
+      const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
+      if (c >= 'x' && c <= 'z') return c - 'x';
+    }
+    raise(PyExc_ValueError, std::string(expect) + "; got " + repr(o));
+  }
+  const long long a = int_arg(o, expect);
+  if (a < 0 || a > 2) raise(PyExc_ValueError, std::string(expect) + "; got " + repr(o));
+  return static_cast<int>(a);
+}
+
+int side_arg(PyObject* o, const char* name) {
+  const std::string expect = std::string(name) + " must be an integer in [1, " + std::to_string(kMaxImageSide) + "]";
+  const long long v = int_arg(o, expect.c_str());
+  if (v < 1 || v > kMaxImageSide) raise(PyExc_ValueError, expect + "; got " + repr(o));
+  return static_cast<int>(v);
+}
+
+float offset_arg(PyObject* o) {
+  static const char* expect = "offset must be a number in [0, 1]";
+  const double v = number_arg(o, expect);
+  if (!std::isfinite(v) || v < 0.0 || v > 1.0) raise(PyExc_ValueError, std::string(expect) + "; got " + repr(o));
+  return static_cast<float>(v);
+}
+
+PyObject* py_slice(PyObject*, PyObject* args, PyObject* kwargs) {
+  return guarded([&] {
+    static const char* kwlist[] = {"params", "axis", "offset", "width", "height", "lod", "threads", nullptr};
+    PyObject *params_obj = nullptr, *axis_obj = nullptr, *offset_obj = nullptr, *width_obj = nullptr,
+             *height_obj = nullptr, *threads_obj = nullptr;
+    int lod = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OOOOO|pO:slice", const_cast<char**>(kwlist), &params_obj,
+                                     &axis_obj, &offset_obj, &width_obj, &height_obj, &lod, &threads_obj))
+      throw PyErrorSet{};
+    const cg::Params params = params_from_py(params_obj);
+    cg::SliceSpec spec;
+    spec.axis = axis_arg(axis_obj);
+    spec.offset = offset_arg(offset_obj);
+    spec.width = side_arg(width_obj, "width");
+    spec.height = side_arg(height_obj, "height");
+    spec.lod = lod != 0;
+    spec.threads = threads_arg(threads_obj);
+    OutputArray out;
+    new_float32_array(out, spec.height, spec.width);
+    float* result = out.data();  // held by out.buffer until we return
+    without_gil([&] {
+      const cg::Model model = cg::prepare(params);
+      const std::vector<float> image = cg::slice(model, spec);
+      std::memcpy(result, image.data(), image.size() * sizeof(float));
+    });
+    return out.array.release();
+  });
+}
+
+// ----------------------------------------------------------------- module ---
+
+PyMethodDef kMethods[] = {
+    {"parameters", py_parameters, METH_NOARGS,
+     "parameters()\n--\n\n"
+     "The parameter declarations, in order: a list of dicts with name, label, group,\n"
+     "kind ('float', 'int', 'vector', 'curve'), count, default, min, max, soft_min,\n"
+     "soft_max, map (lo, hi: physical = lo + (hi - lo) * value), unit and help."},
+    {"presets", py_presets, METH_NOARGS,
+     "presets()\n--\n\n"
+     "The cloud types: dict name -> {'description': str, 'params': {name: value}}."},
+    {"defaults", py_defaults, METH_NOARGS,
+     "defaults()\n--\n\n"
+     "Every parameter at its declared default, as a params dict."},
+    {"resolve_params", py_resolve_params, METH_O,
+     "resolve_params(params, /)\n--\n\n"
+     "Validates a params dict and returns every parameter's value (the optional\n"
+     "'preset' applied, missing keys filled in). Raises ValueError/TypeError naming\n"
+     "the key and the accepted range."},
+    {"density", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_density)),
+     METH_VARARGS | METH_KEYWORDS,
+     "density(params, points, threads=0)\n--\n\n"
+     "Cloud density at points in the cloud object's local frame (the box is\n"
+     "centred on the origin, box_size across). params: dict keyed by parameter\n"
+     "names (missing keys take their defaults; 'preset' names the base cloud type)\n"
+     "or None. points: array-like of shape (N, 3). Returns float32 array (N,).\n"
+     "threads: 0 = one per core. Releases the GIL while evaluating."},
+    {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)),
+     METH_VARARGS | METH_KEYWORDS,
+     "slice(params, axis, offset, width, height, lod=False, threads=0)\n--\n\n"
+     "Cross-section through the cloud box perpendicular to axis ('x', 'y', 'z' or\n"
+     "0-2) at generated coordinate offset in [0, 1]; width and height in [1, 8192].\n"
+     "Returns float32 array (height, width), row 0 at the top. Columns/rows: axis x\n"
+     "-> +y / z, axis y -> +x / z, axis z -> +x / y; pixel centres are sampled.\n"
+     "lod limits noise octaves to the pixel footprint. Releases the GIL."},
+    {nullptr, nullptr, 0, nullptr},
+};
+
+int exec_module(PyObject* module) {
+  return PyModule_AddStringConstant(module, "__version__", cg::version());
+}
+
+PyModuleDef_Slot kSlots[] = {
+    {Py_mod_exec, reinterpret_cast<void*>(exec_module)},
+    {0, nullptr},
+};
+
+PyModuleDef kModule = {
+    PyModuleDef_HEAD_INIT,
+    "cloudgen_native",
+    "Procedural volumetric clouds: thin bindings over the cloudgen C++ core\n"
+    "(parameters, presets, density at points, cross-section slices).",
+    0,
+    kMethods,
+    kSlots,
+    nullptr,
+    nullptr,
+    nullptr,
+};
+
+}  // namespace
+}  // namespace cgpy
+
+PyMODINIT_FUNC PyInit_cloudgen_native(void) { return PyModuleDef_Init(&cgpy::kModule); }
