@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <new>
-#include <unordered_map>
 #include <vector>
 
 #include "cloudgen/param_io.h"
@@ -146,21 +145,12 @@ double number_arg(PyObject* o, const char* what) {
 
 // ------------------------------------------------------------ parameters ---
 
-PyObject* interned_key(const char* key) {
-  // Kept for the life of the process (a few dozen names). PyDict_SetItemString
-  // would create and intern a temporary str per call; the interned table then
-  // churns (insert + delete) on every call.
-  static std::unordered_map<std::string, PyObject*> cache;  // guarded by the GIL
-  auto it = cache.find(key);
-  if (it != cache.end()) return it->second;
-  PyObject* s = PyUnicode_InternFromString(key);
-  if (!s) throw PyErrorSet{};
-  cache.emplace(key, s);
-  return s;
-}
-
 void set_item(PyObject* dict, const char* key, Ref value) {
-  check_status(PyDict_SetItem(dict, interned_key(key), value.get()));
+  // Not PyDict_SetItemString: it interns a temporary str per call, and the
+  // interpreter's table of interned strings then churns (insert + delete) on
+  // every call. The module keeps no static Python objects either.
+  Ref k = str_to_py(key);
+  check_status(PyDict_SetItem(dict, k.get(), value.get()));
 }
 
 Ref param_value_to_py(const cg::Params& params, cg::P p) {
@@ -256,7 +246,8 @@ cg::Params params_from_py(PyObject* obj) {
     raise(PyExc_TypeError, "params must be a dict keyed by parameter names" + got(obj));
   // Iterate over a copy: converting a value may run arbitrary Python code.
   Ref dict = check(PyDict_Copy(obj));
-  PyObject* preset = PyDict_GetItemWithError(dict.get(), interned_key("preset"));  // borrowed
+  Ref preset_key = str_to_py("preset");
+  PyObject* preset = PyDict_GetItemWithError(dict.get(), preset_key.get());  // borrowed
   if (!preset && PyErr_Occurred()) throw PyErrorSet{};
   if (preset) {
     if (!PyUnicode_Check(preset))

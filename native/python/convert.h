@@ -107,9 +107,6 @@ double number_arg(PyObject* o, const char* what);
 
 // ---- dicts ----
 
-// An interned str for a fixed key (declared names, field names), cached for the
-// life of the process; borrowed reference.
-PyObject* interned_key(const char* key);
 // dict[key] = value for a fixed key.
 void set_item(PyObject* dict, const char* key, Ref value);
 
