@@ -222,6 +222,9 @@ json bench_samples(const Options& o) {
 
 constexpr double kGeometryNodesVoxelsPerS = 1.4e6;  // NOTES.md "Anchors measured", 256^3
 
+// Bakes of 256^3 and more take seconds each: at most 5 repetitions there.
+int bake_reps(const Options& o, int resolution) { return resolution >= 256 ? std::min(o.reps, 5) : o.reps; }
+
 json bench_bake(const Options& o) {
   json rows = json::array();
   const cg::Model m = cg::prepare(config_params("cumulus"));
@@ -245,7 +248,7 @@ json bench_bake(const Options& o) {
         std::int64_t grid_voxels = 0;
         // No warm-up for bakes (the slowest take seconds); best of N covers it.
         const cgbench::Timing t = cgbench::time_reps(
-            o.reps,
+            bake_reps(o, res),
             [&] {
               const cg::BakeResult r = cg::bake(m, b);
               stats = r.stats;
@@ -350,6 +353,7 @@ int main(int argc, char** argv) {
             {"hardware_threads", std::thread::hardware_concurrency()},
             {"reps", o.reps},
             {"points", o.points},
+            {"bake_reps_256_and_up", std::min(o.reps, 5)},
             {"load_average_start", cgbench::load_average()}};
   std::printf("cloudgen_bench %s — %s build, %s, best/median of %d runs, load average %.2f\n", cg::version(),
               CLOUDGEN_BENCH_BUILD_TYPE, CLOUDGEN_BENCH_COMPILER, o.reps, cgbench::load_average());

@@ -80,16 +80,18 @@ def cmd_machine(args):
 def instructions(bench, config, kernel, samples):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "callgrind.out")
-        cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, bench,
+        cmd = ["valgrind", "--tool=callgrind", "--branch-sim=yes", "--callgrind-out-file=" + out, bench,
                "--callgrind-samples", str(samples), "--kernel", kernel, "--config", config]
         run = subprocess.run(cmd, capture_output=True, text=True)
         if run.returncode != 0:
             sys.exit("callgrind failed: %s\n%s" % (" ".join(cmd), run.stderr[-2000:]))
         text = read(out)
-        m = re.search(r"^totals:\s+(\d+)", text, re.M) or re.search(r"^summary:\s+(\d+)", text, re.M)
-        if not m:
-            sys.exit("no instruction total in callgrind output of " + " ".join(cmd))
-        return int(m.group(1))
+        events = re.search(r"^events:\s*(.*)$", text, re.M)
+        totals = re.search(r"^totals:\s*(.*)$", text, re.M) or re.search(r"^summary:\s*(.*)$", text, re.M)
+        if not events or not totals:
+            sys.exit("no event totals in callgrind output of " + " ".join(cmd))
+        # Ir = instructions, Bc/Bcm = conditional branches / mispredicted (simulated predictor)
+        return dict(zip(events.group(1).split(), (int(v) for v in totals.group(1).split())))
 
 
 def cmd_callgrind(args):
@@ -97,15 +99,20 @@ def cmd_callgrind(args):
     rows = []
     for item in args.kernels.split(","):
         config, kernel = item.split(":")
-        ir1 = instructions(args.bench, config, kernel, k)
-        ir2 = instructions(args.bench, config, kernel, 2 * k)
+        e1 = instructions(args.bench, config, kernel, k)
+        e2 = instructions(args.bench, config, kernel, 2 * k)
+        ir1, ir2 = e1["Ir"], e2["Ir"]
         per = (ir2 - ir1) / k
-        print("callgrind %-8s %-6s  Ir(%d) = %d  Ir(%d) = %d  -> %.0f instructions/sample"
-              % (config, kernel, k, ir1, 2 * k, ir2, per))
+        bc = (e2.get("Bc", 0) - e1.get("Bc", 0)) / k
+        bcm = (e2.get("Bcm", 0) - e1.get("Bcm", 0)) / k
+        print("callgrind %-8s %-6s  Ir(%d) = %d  Ir(%d) = %d  -> %.0f instructions/sample, "
+              "%.0f cond. branches, %.0f mispredicted" % (config, kernel, k, ir1, 2 * k, ir2, per, bc, bcm))
         rows.append({"config": config, "kernel": kernel, "samples_k": k, "ir_k": ir1, "ir_2k": ir2,
-                     "instructions_per_sample": per, "startup_instructions": ir1 - k * per})
+                     "instructions_per_sample": per, "startup_instructions": ir1 - k * per,
+                     "cond_branches_per_sample": bc, "mispredicted_per_sample": bcm})
     write_json(args.out, {"valgrind": first_line(["valgrind", "--version"]),
-                          "method": "Ir(2K) - Ir(K), divided by K; a fixed set of 10000 points is cycled",
+                          "method": "Ir(2K) - Ir(K), divided by K; a fixed set of 10000 points is cycled; "
+                                    "branches from callgrind's simulated predictor (--branch-sim=yes)",
                           "rows": rows})
 
 
@@ -173,8 +180,10 @@ def render_machine(machine, native):
     if meta:
         rows += [
             ("Date (UTC)", meta.get("date_utc", "")),
-            ("Repetitions", "best and median of %d timed runs (after one untimed warm-up; bakes: no warm-up); "
-                            "previews: of %d runs" % (meta["reps"], max(meta["reps"], 20))),
+            ("Repetitions", "best and median of %d timed runs after one untimed warm-up; previews: of %d runs; "
+                            "bakes: %d runs below 256³, %d from 256³ on, no warm-up"
+                            % (meta["reps"], max(meta["reps"], 20), meta["reps"],
+                               meta.get("bake_reps_256_and_up", meta["reps"]))),
             ("Load average", "%.2f at the start of the timing run, %.2f at its end (2 cores: above ~0.3 other work "
                              "was running)" % (meta["load_average_start"], meta["load_average_end"])),
         ]
@@ -216,6 +225,7 @@ def render_headline(native, cg):
 def render_samples(native, cg):
     s = native.get("samples") or []
     ipc = {(r["config"], r["kernel"]): r["instructions_per_sample"] for r in (cg or {}).get("rows", [])}
+    miss = {(r["config"], r["kernel"]): r.get("mispredicted_per_sample") for r in (cg or {}).get("rows", [])}
     cg_name = {"density": "full", "noise_at": "noise", "perlin_fbm": "perlin", "worley_fbm": "worley"}
     label = {("density", "noise_needed"): "`density()`, points where noise is needed",
              ("noise_at", "noise_needed"): "`noise_at()` alone (same points)",
@@ -232,13 +242,16 @@ def render_samples(native, cg):
         r1 = pick(s, config=key[0], kernel=key[1], points=key[2], threads=1)
         r2 = pick(s, config=key[0], kernel=key[1], points=key[2], threads=2)
         ir = ipc.get((key[0], cg_name[key[1]])) if key[2] == "noise_needed" else None
+        bm = miss.get((key[0], cg_name[key[1]])) if ir else None
         rows.append((key[0], label.get((key[1], key[2]), key[1]), sps(r1), sps(r2),
                      "%.0f" % r1["ns_per_sample_best"] if r1 else "—",
                      "×%.2f" % (r2["samples_per_s_best"] / r1["samples_per_s_best"]) if r1 and r2 else "—",
                      "%.0f" % ir if ir else "—",
-                     "%.2f" % (ir / r1["ns_per_sample_best"]) if ir and r1 else "—"))
+                     "%.2f" % (ir / r1["ns_per_sample_best"]) if ir and r1 else "—",
+                     "%.0f" % bm if bm is not None else "—"))
     return table(("config", "kernel", "samples/s 1 thread, best (median)", "2 threads, best (median)",
-                  "ns/sample 1 thr", "2 thr speed-up", "instructions/sample", "instructions/ns"), rows)
+                  "ns/sample 1 thr", "2 thr speed-up", "instructions/sample", "instructions/ns",
+                  "mispredicted branches/sample"), rows)
 
 
 def render_bake(native):
