@@ -3,6 +3,7 @@
 
 #include <climits>
 #include <cfloat>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -87,13 +88,11 @@ static std::string got(PyObject* o) { return "; got " + type_name(o) + " " + rep
 Ref float_to_py(float v) {
   double d = static_cast<double>(v);
   if (std::isfinite(v)) {
-    char buf[40];
-    for (int precision = 6; precision <= 9; ++precision) {
-      std::snprintf(buf, sizeof buf, "%.*g", precision, d);
-      if (std::strtof(buf, nullptr) == v) {
-        d = std::strtod(buf, nullptr);
-        break;
-      }
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf - 1, v);  // shortest round-trip float32 text
+    if (r.ec == std::errc()) {
+      *r.ptr = '\0';
+      d = std::strtod(buf, nullptr);
     }
   }
   return check(PyFloat_FromDouble(d));

@@ -4,13 +4,14 @@ Each test states its tolerance; failing asserts print the parameters involved.
 Run: .venv/bin/python -m pytest -q tests/python/test_module.py
 (CLOUDGEN_PYTHON_DIR=<build>/python selects another build; see conftest.py).
 """
+import gc
 import math
+import os
 import shutil
 import subprocess
 import sys
 import threading
 import time
-import tracemalloc
 
 import numpy as np
 import pytest
@@ -405,11 +406,24 @@ def test_gil_released(which):
     assert seen["progress"] > 0, f"main thread made no progress during {which}() (params={CUMULUS})"
 
 
+def rss_bytes():
+    """Resident set size now (Linux /proc), or None."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def test_no_reference_leaks():
-    # Bound: traced Python memory grows by < 256 KiB over 10^4 rounds of every
-    # function (plus error paths). A leak of the smallest object per call (an int,
-    # 28 B) would be >= 280 KB; of a result array or dict, megabytes. Arguments'
-    # reference counts must be unchanged (exact).
+    # Bounds, over 10^4 rounds of every function (results and error paths):
+    #  * live Python objects (sys.getallocatedblocks) grow by < 1000 blocks — a leaked
+    #    reference to anything created per call (result array, dict, float, str,
+    #    exception) would leave >= 10^4 blocks;
+    #  * resident memory grows by < 32 MiB (generous; catches leaked array data and C++
+    #    buffers: a leaked (16,) result or points copy per call alone is small, but the
+    #    (5, 6) slices, dicts and exceptions of 10^4 rounds add up to > 32 MiB);
+    #  * the arguments' reference counts are unchanged (exact).
     params = {"preset": "cumulus", "density": 0.4, "box_size": [1.0, 2.0, 3.0]}
     points = np.random.default_rng(1).random((16, 3)) - 0.5
     bad = {"density": 99.0}
@@ -431,17 +445,18 @@ def test_no_reference_leaks():
 
     for _ in range(200):
         round_()
+    gc.collect()
     refs = (sys.getrefcount(params), sys.getrefcount(points), sys.getrefcount(bad),
             sys.getrefcount(params["box_size"]))
-    tracemalloc.start()
-    try:
-        start, _ = tracemalloc.get_traced_memory()
-        for _ in range(10000):
-            round_()
-        end, _ = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
-    assert end - start < 256 * 1024, f"traced memory grew by {end - start} bytes over 10^4 rounds"
+    blocks, rss = sys.getallocatedblocks(), rss_bytes()
+    for _ in range(10000):
+        round_()
+    gc.collect()
+    grown_blocks = sys.getallocatedblocks() - blocks
+    assert grown_blocks < 1000, f"{grown_blocks} more live Python objects after 10^4 rounds (params={params})"
+    if rss is not None:
+        grown = rss_bytes() - rss
+        assert grown < 32 * 2**20, f"resident memory grew by {grown} bytes over 10^4 rounds (params={params})"
     assert refs == (sys.getrefcount(params), sys.getrefcount(points), sys.getrefcount(bad),
                     sys.getrefcount(params["box_size"])), "argument reference counts changed"
     result = cn.density(params, points)
