@@ -176,7 +176,8 @@ float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, i
 }
 
 json timing_json(const cgbench::Timing& t) {
-  return json{{"best_s", t.best()}, {"median_s", t.median()}, {"runs_s", t.seconds}};
+  return json{{"best_s", t.best()}, {"median_s", t.median()}, {"runs_s", t.seconds},
+              {"cpu_best_s", t.cpu_best()}, {"cpu_runs_s", t.cpu_seconds}};
 }
 
 json bench_samples(const Options& o) {

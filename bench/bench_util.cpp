@@ -4,12 +4,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 
 namespace cgbench {
 
 double Timing::best() const {
   return seconds.empty() ? 0.0 : *std::min_element(seconds.begin(), seconds.end());
+}
+
+double Timing::cpu_best() const {
+  return cpu_seconds.empty() ? 0.0 : *std::min_element(cpu_seconds.begin(), cpu_seconds.end());
 }
 
 double Timing::median() const {
@@ -20,14 +25,24 @@ double Timing::median() const {
   return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
 }
 
+namespace {
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+}  // namespace
+
 Timing time_reps(int reps, const std::function<void()>& body, bool warmup) {
   using clock = std::chrono::steady_clock;
   if (warmup) body();
   Timing t;
   for (int r = 0; r < reps; ++r) {
+    const double cpu0 = process_cpu_seconds();
     const auto start = clock::now();
     body();
     const auto stop = clock::now();
+    t.cpu_seconds.push_back(process_cpu_seconds() - cpu0);
     t.seconds.push_back(std::chrono::duration<double>(stop - start).count());
   }
   return t;

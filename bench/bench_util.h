@@ -13,7 +13,9 @@ namespace cgbench {
 
 // Wall-clock seconds of each repetition, and their best and median.
 struct Timing {
-  std::vector<double> seconds;
+  std::vector<double> seconds;      // wall clock
+  std::vector<double> cpu_seconds;  // CPU time of the whole process (all threads) in the same runs
+  double cpu_best() const;
   double best() const;
   double median() const;
 };

@@ -244,13 +244,14 @@ def render_samples(native, cg):
         ir = ipc.get((key[0], cg_name[key[1]])) if key[2] == "noise_needed" else None
         bm = miss.get((key[0], cg_name[key[1]])) if ir else None
         rows.append((key[0], label.get((key[1], key[2]), key[1]), sps(r1), sps(r2),
-                     "%.0f" % r1["ns_per_sample_best"] if r1 else "—",
+                     "%.0f / %.0f" % (r1["ns_per_sample_best"], 1e9 * r1.get("cpu_best_s", float("nan")) / r1["count"])
+                     if r1 else "—",
                      "×%.2f" % (r2["samples_per_s_best"] / r1["samples_per_s_best"]) if r1 and r2 else "—",
                      "%.0f" % ir if ir else "—",
-                     "%.2f" % (ir / r1["ns_per_sample_best"]) if ir and r1 else "—",
+                     "%.2f" % (ir / (1e9 * r1.get("cpu_best_s", r1["best_s"]) / r1["count"])) if ir and r1 else "—",
                      "%.0f" % bm if bm is not None else "—"))
     return table(("config", "kernel", "samples/s 1 thread, best (median)", "2 threads, best (median)",
-                  "ns/sample 1 thr", "2 thr speed-up", "instructions/sample", "instructions/ns",
+                  "ns/sample 1 thr, wall / CPU", "2 thr speed-up", "instructions/sample", "instructions per CPU ns",
                   "mispredicted branches/sample"), rows)
 
 
@@ -260,12 +261,13 @@ def render_bake(native):
     for r in b:
         rows.append(("%d³ (%s)" % (r["resolution"], "×".join(str(n) for n in grid_dims(r))), r["mode"], r["threads"],
                      "%.3f (%.3f)" % (r["best_s"], r["median_s"]),
+                     "%.3f" % r["cpu_best_s"] if "cpu_best_s" in r else "—",
                      "%d / %d" % (r["tiles_skipped"], r["tiles_total"]),
                      "{:,}".format(r["voxels_evaluated"]),
                      "%.1f %%" % (100 * r["active_fraction"]),
                      "%.2g / %.2g" % (r["lod_worley_octaves"], r["lod_perlin_octaves"]) if r["lod"] else "all",
                      si(r["voxels_per_s_best"]), "%.1f×" % r["vs_geometry_nodes"]))
-    return table(("grid", "mode", "threads", "seconds best (median)", "tiles skipped / total", "voxels evaluated",
+    return table(("grid", "mode", "threads", "seconds best (median)", "CPU seconds (all threads), best", "tiles skipped / total", "voxels evaluated",
                   "active voxels", "octaves Worley / gradient", "voxels/s (of the grid)", "vs Geometry Nodes"), rows)
 
 
@@ -298,7 +300,8 @@ def render_generated(results):
              "### Headline figures", "", render_headline(native, cg), "",
              "### Machine, build and conditions", "", render_machine(machine, native), "",
              "### Samples", "",
-             "Samples/s are best (median) over the repetitions; ns/sample and instructions/ns use the 1-thread best. "
+             "Samples/s are best (median) over the repetitions. ns/sample: 1-thread best, wall clock and process CPU "
+             "time (the CPU figure is less disturbed by other work on the machine); instructions per CPU ns use it. "
              "Instructions per sample are from callgrind (%s)." % ((cg or {}).get("valgrind", "not run")), "",
              render_samples(native, cg), "",
              "### Bake (cumulus preset)", "", render_bake(native), "",
