@@ -182,7 +182,8 @@ PyMethodDef kMethods[] = {
      "Cloud density at points in the cloud object's local frame (the box is\n"
      "centred on the origin, box_size across). params: dict keyed by parameter\n"
      "names (missing keys take their defaults; 'preset' names the base cloud type)\n"
-     "or None. points: array-like of shape (N, 3). Returns float32 array (N,).\n"
+     "or None. points: array-like of shape (N, 3); NaN, Inf and points outside the\n"
+     "box give 0. Returns float32 array (N,).\n"
      "threads: 0 = one per core. Releases the GIL while evaluating."},
     {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)),
      METH_VARARGS | METH_KEYWORDS,

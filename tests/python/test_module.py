@@ -176,6 +176,13 @@ def test_density_nonnegative_finite_and_zero_outside_box(name):
     assert np.all(out_values == 0), f"params={params}: non-zero density outside the box {outside[out_values != 0][:3]}"
 
 
+def test_nonfinite_and_huge_points_give_zero():
+    # Tolerance: exact. Points are positions, not parameters: NaN, Inf and far-away
+    # points lie outside the box, where the density is 0 (documented in density()).
+    points = [[np.nan, 0, 0], [0, np.inf, 0], [0, 0, -np.inf], [1e30, 0, 0], [-3e38, 3e38, 0]]
+    assert np.array_equal(cn.density(CUMULUS, points), np.zeros(5, np.float32))
+
+
 def test_density_linear_in_density_parameter():
     # Tolerance: relative 1e-6 (the kernel multiplies by density x 20 at the end).
     rng = np.random.default_rng(3)
