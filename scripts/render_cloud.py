@@ -31,8 +31,8 @@ def parse_args(argv):
     ap.add_argument("--output", required=True, help="PNG (8-bit) or EXR (float) file to write")
     ap.add_argument("--size", default="320x240", help="WxH pixels (default 320x240)")
     ap.add_argument("--samples", type=int, default=32, help="samples per pixel (default 32)")
-    ap.add_argument("--step-rate", type=float, default=0.05,
-                    help="volume step rate of the material (Cycles; default 0.05)")
+    ap.add_argument("--step-rate", type=float, default=0.2,
+                    help="volume step rate of the material (Cycles; default 0.2)")
     ap.add_argument("--seed", type=int, default=0, help="Cycles sampling seed")
     ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
     return ap.parse_args(argv)
@@ -63,7 +63,7 @@ def build_scene(values, args):
     scene.cycles.samples = args.samples
     scene.cycles.use_denoising = False
     scene.cycles.seed = args.seed
-    scene.cycles.volume_bounces = 2
+    scene.cycles.volume_bounces = 4
     scene.cycles.max_bounces = 4
     scene.render.threads_mode = "FIXED" if args.threads else "AUTO"
     if args.threads:
@@ -106,7 +106,7 @@ def build_scene(values, args):
     scene.camera = cam
 
     sun_data = bpy.data.lights.new("Sun", "SUN")
-    sun_data.energy = 4.0
+    sun_data.energy = 6.0
     sun_data.angle = math.radians(1.0)
     sun = bpy.data.objects.new("Sun", sun_data)
     sun.rotation_euler = (math.radians(40), math.radians(0), math.radians(-35))
