@@ -43,7 +43,8 @@ def osl_available() -> bool:
     return bool(getattr(bpy.app.build_options, "cycles_osl", False))
 
 
-def script_node(node_tree, shader: str, mode: str = "INTERNAL", directory: str | None = None):
+def script_node(node_tree, shader: str, mode: str = "INTERNAL", directory: str | None = None,
+                defines: dict | None = None):
     """A compiled Script node for one of our shaders. INTERNAL stores the
     flattened source as a Text datablock (it travels with the .blend);
     EXTERNAL writes it to `directory` (the .oso lands next to it)."""
@@ -51,7 +52,7 @@ def script_node(node_tree, shader: str, mode: str = "INTERNAL", directory: str |
     from cycles import osl as cycles_osl
 
     ensure_oslquery_importable()
-    source = flatten.shader_source(shader)
+    source = flatten.shader_source(shader, defines)
     node = node_tree.nodes.new("ShaderNodeScript")
     node.label = shader.replace("_", " ").title()
     if mode == "INTERNAL":
@@ -106,12 +107,13 @@ def shape_curve_node(node_tree, samples):
     return node
 
 
-def cloud_density_nodes(node_tree, values: dict, generated_socket, mode="INTERNAL", directory=None):
+def cloud_density_nodes(node_tree, values: dict, generated_socket, mode="INTERNAL", directory=None,
+                        defines: dict | None = None):
     """Build Cloud Noise + Cloud Height + Float Curve + Cloud Main fed by
     `generated_socket`; returns (main_node, noise_node). The density is
     main_node.outputs['Density']."""
-    noise = script_node(node_tree, "cloud_noise", mode, directory)
-    main = script_node(node_tree, "cloud_main", mode, directory)
+    noise = script_node(node_tree, "cloud_noise", mode, directory, defines)
+    main = script_node(node_tree, "cloud_main", mode, directory, defines)
     links = node_tree.links
     set_inputs(noise, values)
     set_inputs(main, values)

@@ -39,11 +39,13 @@ def flatten(path: str | pathlib.Path, _seen: set | None = None) -> str:
     return "\n".join(out) + "\n"
 
 
-def shader_source(name: str) -> str:
-    """The flattened source of one of our shaders, e.g. shader_source("cloud_main")."""
+def shader_source(name: str, defines: dict | None = None) -> str:
+    """The flattened source of one of our shaders, e.g. shader_source("cloud_main").
+    `defines` are prepended as #define lines (e.g. {"CG_NO_EARLY_EXIT": 1})."""
     if name not in SHADERS:
         raise ValueError(f"unknown shader {name!r}; expected one of {SHADERS}")
-    return flatten(OSL_DIR / f"{name}.osl")
+    head = "".join(f"#define {k} {v}\n" for k, v in (defines or {}).items())
+    return head + flatten(OSL_DIR / f"{name}.osl")
 
 
 if __name__ == "__main__":

@@ -35,6 +35,8 @@ def parse_args(argv):
                     help="volume step rate of the material (Cycles; default 0.2)")
     ap.add_argument("--seed", type=int, default=0, help="Cycles sampling seed")
     ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
+    ap.add_argument("--no-early-exit", action="store_true",
+                    help="compile Cloud Main without its early exit (benchmarking only)")
     return ap.parse_args(argv)
 
 
@@ -83,7 +85,8 @@ def build_scene(values, args):
     nt = mat.node_tree
     nt.nodes.clear()
     coords = nt.nodes.new("ShaderNodeTexCoord")
-    main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"])
+    defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
+    main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"], defines=defines)
     volume = nt.nodes.new("ShaderNodeVolumePrincipled")
     volume.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     volume.inputs["Anisotropy"].default_value = 0.3
