@@ -2,7 +2,7 @@
 #include "cloudgen/params.h"
 
 #include <cmath>
-#include <cstdio>
+#include <charconv>
 #include <string>
 
 namespace cg {
@@ -88,10 +88,11 @@ std::optional<P> find_param(std::string_view key) {
   return std::nullopt;
 }
 
+// Shortest decimal that reads back as the same float (0.05, not 0.0500000007).
 static std::string num(float v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 std::string describe_range(const ParamDecl& d) {
