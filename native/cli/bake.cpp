@@ -167,6 +167,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
   const cg::Model first = cg::prepare(params);
   const double gib = double(cg::estimate_bake_bytes(first, opts)) / double(1ull << 30);
   const cg::GridSpec spec = cg::grid_for_box(first, opts.resolution);
+  if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions
   if (gib > budget_gib) {
     char msg[256];
     std::snprintf(msg, sizeof msg, "--resolution %d needs an estimated %.3g GiB, more than --max-memory %g GiB",
