@@ -188,13 +188,11 @@ TEST(Extremes, LongWindDriftInsideTheLimits) {
   }
 }
 
-// KNOWN BUG (reported): cg_noise_offset divides strength * time (each clamped to
-// 1e9) by the direction's length; for a direction of length ~1e-22 (its square is a
-// float denormal) the quotient overflows to Inf, -direction * Inf is -Inf and
-// cg_wrap(-Inf) is NaN (then int(NaN) in the noise is undefined behaviour).
-// Fix: normalise the direction first (d / len, with len computed from d scaled by
-// its largest component), or clamp `travel` to +-CG_COORD_LIMIT.
-TEST(Extremes, DISABLED_TinyWindDirectionWithHugeDrift) {
+// Regression: cg_noise_offset once divided strength * time (each clamped to 1e9)
+// by the direction's length; for a direction of length ~1e-22 (its square a float
+// denormal) the quotient overflowed to Inf and cg_wrap(-Inf) gave NaN. The
+// direction is now normalised after scaling by its largest component.
+TEST(Extremes, TinyWindDirectionWithHugeDrift) {
   cg::Params p;
   p.set_unchecked(cg::WIND_DIRECTION, 0, 1e-22f);
   p.set_unchecked(cg::WIND_DIRECTION, 1, 0.0f);

@@ -351,7 +351,7 @@ TEST(AtomicFile, CheckOutputPathNamesTheOption) {
   TempDir dir;
   EXPECT_NO_THROW(cgio::check_output_path(dir.file("x.vdb")));
   std::ofstream(dir.file("plain")) << "file";
-  for (const std::string bad : {dir.file("missing/x.vdb"), dir.file("plain/x.vdb"), dir.path(), std::string()}) {
+  for (const std::string& bad : {dir.file("missing/x.vdb"), dir.file("plain/x.vdb"), dir.path(), std::string()}) {
     try {
       cgio::check_output_path(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";

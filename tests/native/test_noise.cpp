@@ -250,9 +250,9 @@ TEST(Noise, WorleyF1IsOneLipschitz) {
 // ---------------------------------------------------- 27 vs 125-cell search ---
 
 // Reference Worley F1: the same lattice, hash and feature points as the kernel,
-// but a 5x5x5 search. Features of cells two or more steps away are at least
-// 1 + (1 - jitter)/2 = 1.05 away, further ones even more, so 125 cells are exact
-// for every F1 < 2.05 — beyond the largest possible F1 (sqrt(3) * 0.95).
+// but a 5x5x5 search. Features of cells three or more steps away are at least
+// 2 + (1 - jitter)/2 = 2.05 away, so 125 cells are exact for every F1 < 2.05 —
+// beyond the largest possible F1 (sqrt(3) * 0.95). Capped like the kernel's F1.
 float worley_f1_125(float px, float py, float pz, int seed) {
   using namespace cg;
   const float x = cg_wrap(px), y = cg_wrap(py), z = cg_wrap(pz);
@@ -273,7 +273,7 @@ float worley_f1_125(float px, float py, float pz, int seed) {
       }
     }
   }
-  return cg::sqrt(best);
+  return std::min(cg::sqrt(best), CG_WORLEY_F1_CAP);
 }
 
 TEST(Worley, TwentySevenCellsEqualOneHundredTwentyFiveOnRandomPoints) {
@@ -296,8 +296,10 @@ TEST(Worley, TwentySevenCellsEqualOneHundredTwentyFiveOnRandomPoints) {
 }
 
 // Points found by a search near lattice corners (2*10^7 points within 0.05 of a
-// corner, 25 misses): there all 27 searched feature points are farther than a
-// feature point two cells away. The 27-cell search is exact only for F1 < 1.05.
+// corner, 25 misses of the uncapped 27-cell search): there all 27 searched
+// feature points are farther than a feature point two cells away. Since the
+// kernel caps F1 at 1.05 (which no point outside the 27 cells can beat), the
+// capped values agree.
 struct Miss {
   float x, y, z;
   int seed;
@@ -308,10 +310,8 @@ const Miss kMisses[] = {{45.9768105f, 178.963516f, 88.9944f, 3},
                         {81.0068893f, 179.952057f, 175.016464f, 6},
                         {29.9573841f, 83.0307236f, 129.97879f, 2}};
 
-// KNOWN BUG (reported): cg_worley_f1's comment claims the 27-cell search is exact;
-// it is not for F1 >= 1.05. Enable when the kernel is fixed (e.g. by returning
-// min(F1, 1 + (1 - CG_WORLEY_JITTER) / 2), which is exact and still 1-Lipschitz).
-TEST(Worley, DISABLED_TwentySevenCellsEqualOneHundredTwentyFiveNearCorners) {
+TEST(Worley, TwentySevenCellsEqualOneHundredTwentyFiveNearCorners) {
+  // Tolerance: bit-exact (both capped at 1.05), at the points where the uncapped search missed.
   for (const Miss& m : kMisses) {
     const float a = cg::cg_worley_f1(m.x, m.y, m.z, m.seed), b = worley_f1_125(m.x, m.y, m.z, m.seed);
     EXPECT_TRUE(same_bits(a, b)) << "27-cell F1 " << a << " != 125-cell F1 " << b << " at (" << m.x << ", " << m.y
@@ -324,7 +324,7 @@ TEST(Worley, TwentySevenCellsExactBelowOnePointZeroFive) {
   // saturates at F1 = 1, and a feature point outside the 27 cells is >= 1.05 away.
   // So min(F1_27, 1.05) == min(F1_125, 1.05) bit-exactly, also at the known misses
   // and on points oversampled near lattice corners (where misses happen).
-  const float cap = 1.0f + (1.0f - CG_WORLEY_JITTER) * 0.5f;
+  const float cap = CG_WORLEY_F1_CAP;
   for (const Miss& m : kMisses) {
     const float a = cg::cg_worley_f1(m.x, m.y, m.z, m.seed), b = worley_f1_125(m.x, m.y, m.z, m.seed);
     EXPECT_GE(b, cap) << "a miss below 1.05 at (" << m.x << ", " << m.y << ", " << m.z << ")";

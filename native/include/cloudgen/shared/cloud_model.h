@@ -117,14 +117,21 @@ CG_FN float cg_lod_octaves(float frequency, float footprint) {
  * that it stays fixed in the world; wind shifts it by -velocity * time. */
 CG_FN CG_VEC3 cg_noise_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_direction,
                               float wind_strength, float time, float frequency) {
-  float len = sqrt(wind_direction[0] * wind_direction[0] + wind_direction[1] * wind_direction[1] +
-                   wind_direction[2] * wind_direction[2]);
-  float t = clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
-  float travel = len > 0 ? clamp(wind_strength, -CG_COORD_LIMIT, CG_COORD_LIMIT) * t / len : 0;
+  /* unit direction, computed from the direction scaled by its largest component
+   * so that neither tiny nor huge directions under- or overflow */
+  float big = max(max(fabs(wind_direction[0]), fabs(wind_direction[1])), fabs(wind_direction[2]));
+  CG_VEC3 unit = CG_VEC3(0, 0, 0);
+  if (big > 0) {
+    CG_VEC3 d = CG_VEC3(wind_direction[0] / big, wind_direction[1] / big, wind_direction[2] / big);
+    float len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    unit = CG_VEC3(d[0] / len, d[1] / len, d[2] / len);
+  }
+  float travel = clamp(wind_strength, -CG_COORD_LIMIT, CG_COORD_LIMIT) *
+                 clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
   float follow = 1 - clamp(stationary, 0, 1);
   CG_VEC3 o = CG_VEC3(0, 0, 0);
   for (int i = 0; i < 3; i += 1) {
-    float c = clamp(location[i], -CG_COORD_LIMIT, CG_COORD_LIMIT) * follow - wind_direction[i] * travel;
+    float c = clamp(location[i], -CG_COORD_LIMIT, CG_COORD_LIMIT) * follow - unit[i] * travel;
     o[i] = cg_wrap(c * frequency);
   }
   return o;

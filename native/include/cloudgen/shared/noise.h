@@ -38,9 +38,10 @@ CG_FN int cg_mix32(int v) {
 /* 24 low bits of a hash as a float in [0, 1): exact in both languages. */
 CG_FN float cg_hash_unit(int h) { return float(h & 16777215) / 16777216; }
 
-/* x reduced to [0, CG_PERIOD]; the lattice is periodic, so the noise value is
- * unchanged, and the integer cell index can never overflow. */
-CG_FN float cg_wrap(float x) { return x - CG_PERIOD * floor(x / CG_PERIOD); }
+/* x reduced to [-CG_PERIOD/2, CG_PERIOD/2]: the lattice is periodic, so the
+ * noise value is unchanged, the integer cell index can never overflow, and the
+ * float keeps the same precision on both sides of 0. */
+CG_FN float cg_wrap(float x) { return x - CG_PERIOD * floor(x / CG_PERIOD + CG_FLOAT(0.5)); }
 
 CG_FN float cg_fade(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 
@@ -110,9 +111,16 @@ CG_FN float cg_perlin4(float px, float py, float pz, float pw, int seed) {
 /* Feature point coordinate inside its cell, in [0.05, 0.95]. */
 CG_FN float cg_feature(int h) { return CG_FLOAT(0.5) + CG_WORLEY_JITTER * (cg_hash_unit(h) - CG_FLOAT(0.5)); }
 
-/* Worley F1: distance to the nearest feature point, one point per cell, the
- * 27 cells around p searched. Exact because each feature point lies inside its
- * own cell (tests compare with a 125-cell search). Result in [0, sqrt(3)*0.95]. */
+/* Distance beyond which Worley F1 is capped: a feature point outside the 27
+ * cells around p lies at least one cell plus the margin (1 - jitter)/2 away. */
+#define CG_WORLEY_F1_CAP (1 + (1 - CG_WORLEY_JITTER) / 2)
+
+/* Worley F1, capped: min(distance to the nearest feature point, 1.05), one
+ * point per cell, the 27 cells around p searched. Exact — equal to a search of
+ * every cell, then capped — because no point outside the 27 cells can be nearer
+ * than the cap (tests compare with a 125-cell search). The cap is invisible in
+ * the model: the billow term smoothstep(0, 1, F1) is already 1 from F1 = 1.
+ * Result in [0, 1.05]; 1-Lipschitz. */
 CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
   float x = cg_wrap(px);
   float y = cg_wrap(py);
@@ -140,7 +148,7 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
       }
     }
   }
-  return sqrt(best);
+  return min(sqrt(best), CG_WORLEY_F1_CAP);
 }
 
 /* Weight of octave k when `octaves` (possibly fractional) are asked for: 1 for
