@@ -220,8 +220,9 @@ int cmd_params(const std::vector<std::string>& argv) {
       std::printf("  %-18s %-6s %-16s %-22s %s\n", "key", "kind", "default", "range", "unit — meaning");
     }
     std::string def = value_text(defaults, static_cast<cg::P>(i));
-    if (def.size() > 16) def = def.substr(0, 13) + "...";
-    const std::string range = "[" + fmt_num(d.min) + ", " + fmt_num(d.max) + "]";
+    if (def.size() > 16) def.replace(13, std::string::npos, "...");
+    std::string range("[");
+    range.append(fmt_num(d.min)).append(", ").append(fmt_num(d.max)).append("]");
     std::printf("  %-18s %-6s %-16s %-22s %s — %s\n", d.key, cg::kind_name(d.kind), def.c_str(), range.c_str(),
                 d.unit, d.help);
   }
