@@ -208,7 +208,7 @@ TEST(VdbRoundTrip, GridNameClassTransformMetadata) {
   }
 }
 
-// Density 0 gives no active voxel; the file still holds a valid, empty grid.
+// Exact: Density 0 gives no active voxel; the file still holds a valid, empty grid.
 TEST(VdbRoundTrip, EmptyCloudWritesValidEmptyGrid) {
   TempDir dir;
   cg::Params params = cumulus();
@@ -226,7 +226,7 @@ TEST(VdbRoundTrip, EmptyCloudWritesValidEmptyGrid) {
   EXPECT_EQ(vdb.value(10, 10, 10), 0.0f);
 }
 
-// Reading garbage or a truncated file is an IoError, never a crash.
+// Exact (no tolerance): reading garbage or a truncated file is an IoError, never a crash.
 TEST(VdbRead, MalformedFilesAreIoErrors) {
   TempDir dir;
   const std::string junk = dir.file("junk.vdb");
@@ -315,6 +315,7 @@ TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
   EXPECT_EQ(cgio::png_level(1e9f), 255);
 }
 
+// Exact: the format follows the extension, case-insensitively.
 TEST(ImageFormat, ByExtension) {
   EXPECT_EQ(cgio::image_format_for("a/b.png"), cgio::ImageFormat::Png);
   EXPECT_EQ(cgio::image_format_for("B.EXR"), cgio::ImageFormat::Exr);
@@ -323,7 +324,7 @@ TEST(ImageFormat, ByExtension) {
   EXPECT_FALSE(cgio::image_format_for("dir.png/file").has_value());
 }
 
-// Nothing but the committed file is ever left in the directory.
+// Exact: nothing but the committed file is ever left in the directory.
 TEST(AtomicFile, CommitRenamesDiscardRemoves) {
   TempDir dir;
   const std::string target = dir.file("out.vdb");
@@ -347,6 +348,7 @@ TEST(AtomicFile, CommitRenamesDiscardRemoves) {
   EXPECT_EQ(dir.files(), std::vector<std::string>{"out.vdb"});
 }
 
+// Exact: every unusable output path is refused up front, naming --output.
 TEST(AtomicFile, CheckOutputPathNamesTheOption) {
   TempDir dir;
   EXPECT_NO_THROW(cgio::check_output_path(dir.file("x.vdb")));
