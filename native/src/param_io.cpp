@@ -95,7 +95,7 @@ Params params_from_json(std::string_view text, std::string_view origin) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers out of range such as 1e999
     throw ParamError(std::string(origin) + ": not valid JSON (" + e.what() + ")");
   }
   if (!doc.is_object()) throw ParamError(std::string(origin) + ": expected a JSON object of parameters");
