@@ -3,7 +3,8 @@
 # checks and rebuilds what changed.
 #   Debian packages   (apt-get, only those missing)
 #   .venv             Python virtual environment made with the python3 on PATH,
-#                     with cmake, ninja, numpy, pytest; cloudgen_native on its path
+#                     with cmake, ninja, numpy, pytest and bpy (Blender 4.5 as a
+#                     module, with OSL); cloudgen_native and oslquery on its path
 #   build/            Release build: core, CLI (build/bin/cloudgen), Python module
 # Usage: scripts/setup.sh [--tests]   (--tests also installs what only the tests need)
 set -euo pipefail
@@ -49,6 +50,13 @@ fi
 # cloudgen_native is importable from the venv through a .pth file naming build/python
 site=$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 echo "$root/build/python" > "$site/cloudgen_native_build.pth"
+# cycles.osl.update_script_node() imports `oslquery`, which the bpy wheel keeps in
+# Blender's bundled site-packages, off sys.path: make it importable for every user
+# of the venv (appended after the venv's own packages, so it shadows nothing).
+bundled=$(ls -d "$site"/bpy/*/python/lib/python3.*/site-packages 2>/dev/null | head -n 1 || true)
+if [[ -n "$bundled" ]]; then
+  echo "$bundled" > "$site/cloudgen_bpy_oslquery.pth"
+fi
 
 # ---- build -----------------------------------------------------------------
 export PATH="$root/.venv/bin:$PATH"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # All the tests: set up (with the test-only packages), the native tests
 # (ctest), the same native tests under AddressSanitizer + UBSan in a second
-# build directory, and the Python tests (pytest: module, CLI, round trips).
+# build directory, the Python tests (pytest: module, CLI, round trips) and the
+# Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -21,5 +22,5 @@ test "${PIPESTATUS[0]}" -eq 0
 ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   CLOUDGEN_TEST_SCALE=sanitize ctest --test-dir build-sanitize --output-on-failure --parallel "$(nproc)"
 
-echo "== Python tests"
-python -m pytest -q tests/python
+echo "== Python tests (module, CLI, round trips) and Blender tests (bpy 4.5: OSL, parity, render)"
+CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/blender
