@@ -20,7 +20,7 @@ const ParamDecl kParams[PARAM_COUNT] = {
   {"cloud_scale", "Cloud Scale", "Cloud Main", Kind::Float, {0.85f}, 0.05f, 1.0f, 0.05f, 1.0f, 0, 1,
    "fraction of the box", "Size of the cloud inside its box: 1 touches the box faces, smaller values shrink it about the centre."},
   {"density", "Density", "Cloud Main", Kind::Float, {0.5f}, 0.0f, 10.0f, 0.0f, 1.0f, 0, CG_DENSITY_SCALE,
-   "slider (x20 per scene unit)", "Density handed to the volume shader: 1 means 20 per scene unit where the cloud is thickest."},
+   "slider (x20 per scene unit)", "Density handed to the volume shader: the physical density is 20 x this value x the shape density (about 1 in the cloud's core)."},
   {"distortion", "Distortion", "Cloud Main", Kind::Float, {0.7f}, 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
    "", "How strongly the Cloud Noise texture distorts the shape (F in eq. 3.4)."},
   {"shape_mode", "Shape Source", "Cloud Main", Kind::Int, {0}, 0, 1, 0, 1, 0, 1,
@@ -88,10 +88,12 @@ std::optional<P> find_param(std::string_view key) {
   return std::nullopt;
 }
 
-// Shortest decimal that reads back as the same float (0.05, not 0.0500000007).
+// Shortest decimal that reads back as the same float (0.05, not 0.0500000007),
+// in plain notation (100000, not 1e+05) unless that gets long.
 static std::string num(float v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed);
+  if (r.ec != std::errc() || r.ptr - buf > 12) r = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
 }
 
