@@ -98,7 +98,11 @@ static std::string num(float v) {
 }
 
 std::string describe_range(const ParamDecl& d) {
-  const std::string range = "[" + num(d.min) + ", " + num(d.max) + "]";
+  std::string range = "[";  // appended piecewise: `"[" + std::string` trips a GCC 12 -Wrestrict false positive
+  range += num(d.min);
+  range += ", ";
+  range += num(d.max);
+  range += "]";
   switch (d.kind) {
     case Kind::Float: return "a number in " + range;
     case Kind::Int: return "an integer in " + range;

@@ -155,40 +155,20 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
  * whole octaves, the fractional part for the last one (a smooth fade), 0 after. */
 CG_FN float cg_octave_weight(float octaves, int k) { return clamp(octaves - k, 0, 1); }
 
-/* fBm of 4D gradient noise, lacunarity 2, normalised by the sum of the
- * amplitudes of the `octaves` asked for, so the result stays in [-1, 1] for
- * every gain and octave count. Octaves beyond `lod_octaves` (finer than the
- * sampling can hold) are not evaluated: their mean, 0, stands in for them. */
-CG_FN float cg_perlin_fbm(CG_VEC3 p, float w, float octaves, float lod_octaves, float gain, int seed) {
-  float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
-  float n_eval = min(n_decl, lod_octaves);
-  float g = clamp(gain, 0, CG_MAX_GAIN);
-  float sum = 0;
-  float norm = 0;
-  float amp = 1;
-  float freq = 1;
-  for (int k = 0; k < CG_MAX_OCTAVES; k += 1) {
-    float wd = cg_octave_weight(n_decl, k);
-    if (wd <= 0) break;
-    norm += amp * wd;
-    float we = cg_octave_weight(n_eval, k);
-    if (we > 0) {
-      float s = k * CG_OCTAVE_SHIFT;
-      sum += amp * we * cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s,
-                                   cg_mix32(seed ^ k));
-    }
-    amp *= g;
-    freq *= 2;
-  }
-  return norm > 0 ? sum / norm : 0;
-}
+#define CG_FBM_GRADIENT 0  /* octave term: 4D gradient noise, in [-1, 1], mean 0 */
+#define CG_FBM_WORLEY 1    /* octave term: smoothstep(0, 1, Worley F1), in [0, 1], mean about 1/2 */
 
-/* fBm of the Worley billow term smoothstep(0, 1, F1), lacunarity 2, normalised
- * like cg_perlin_fbm; result in [0, 1], small near feature points. */
-CG_FN float cg_worley_fbm(CG_VEC3 p, float octaves, float lod_octaves, float gain, int seed) {
+/* fBm, lacunarity 2: octave k samples the term at 2^k p (+ a per-octave shift,
+ * its own seed), weighted gain^k; the sum is normalised by the sum of the
+ * weights of the `octaves` asked for (the last one fractional: it fades in),
+ * so the result stays in the term's range for every gain and octave count.
+ * Octaves beyond `lod_octaves` (finer than the sampling can hold) are not
+ * evaluated: the term's mean stands in for them, faded in the same way. */
+CG_FN float cg_fbm(int kind, CG_VEC3 p, float w, float octaves, float lod_octaves, float gain, int seed) {
   float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
   float n_eval = min(n_decl, lod_octaves);
   float g = clamp(gain, 0, CG_MAX_GAIN);
+  float mean = kind == CG_FBM_WORLEY ? CG_FLOAT(0.5) : 0;
   float sum = 0;
   float norm = 0;
   float amp = 1;
@@ -198,18 +178,32 @@ CG_FN float cg_worley_fbm(CG_VEC3 p, float octaves, float lod_octaves, float gai
     if (wd <= 0) break;
     norm += amp * wd;
     float we = cg_octave_weight(n_eval, k);
-    /* an octave not evaluated stands in with the mean of its term, about 1/2 */
-    float term = CG_FLOAT(0.5);
+    float term = mean;
     if (we > 0) {
       float s = k * CG_OCTAVE_SHIFT;
-      float f1 = cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, cg_mix32(seed ^ k));
-      term = mix(term, smoothstep(0, 1, f1), we);
+      int octave_seed = cg_mix32(seed ^ k);
+      float sample = 0;
+      if (kind == CG_FBM_WORLEY)
+        sample = smoothstep(0, 1, cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, octave_seed));
+      else
+        sample = cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s, octave_seed);
+      term = mix(mean, sample, we / wd);
     }
     sum += amp * wd * term;
     amp *= g;
     freq *= 2;
   }
-  return norm > 0 ? sum / norm : CG_FLOAT(0.5);
+  return norm > 0 ? sum / norm : mean;
+}
+
+/* Gradient-noise fBm in [-1, 1] (w: the 4th coordinate, time). */
+CG_FN float cg_perlin_fbm(CG_VEC3 p, float w, float octaves, float lod_octaves, float gain, int seed) {
+  return cg_fbm(CG_FBM_GRADIENT, p, w, octaves, lod_octaves, gain, seed);
+}
+
+/* Worley-billow fBm in [0, 1], small near feature points. */
+CG_FN float cg_worley_fbm(CG_VEC3 p, float octaves, float lod_octaves, float gain, int seed) {
+  return cg_fbm(CG_FBM_WORLEY, p, 0, octaves, lod_octaves, gain, seed);
 }
 
 CG_NAMESPACE_END
