@@ -1,7 +1,7 @@
 """Render a cloud procedurally with the cloudgen OSL shaders in Cycles (bpy wheel).
 
 Usage: .venv/bin/python scripts/render_cloud.py --preset cumulus --output out/cumulus.png
-       [--params FILE.json] [--size 320x240] [--samples 32] [--step-rate 0.05] [--seed 0]
+       [--params FILE.json] [--size 320x240] [--samples 64] [--step-rate 0.05] [--seed 0]
 
 Builds a small scene — the cloud box with a Principled Volume fed by Cloud
 Main, a camera looking at it from slightly below, a sun and a blue sky — and
@@ -30,7 +30,7 @@ def parse_args(argv):
     src.add_argument("--params", help="JSON parameter file (see docs/model.md)")
     ap.add_argument("--output", required=True, help="PNG (8-bit) or EXR (float) file to write")
     ap.add_argument("--size", default="320x240", help="WxH pixels (default 320x240)")
-    ap.add_argument("--samples", type=int, default=32, help="samples per pixel (default 32)")
+    ap.add_argument("--samples", type=int, default=64, help="samples per pixel (default 64)")
     ap.add_argument("--step-rate", type=float, default=0.2,
                     help="volume step rate of the material (Cycles; default 0.2)")
     ap.add_argument("--seed", type=int, default=0, help="Cycles sampling seed")
@@ -140,6 +140,9 @@ def render(scene, output):
         t0 = time.perf_counter()
         bpy.ops.render.render(write_still=True)
         seconds = time.perf_counter() - t0
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp made it private; give it the usual mode
         os.replace(tmp, output)
     finally:
         if os.path.exists(tmp):
