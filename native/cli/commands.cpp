@@ -156,8 +156,10 @@ cg::Params load_params(const Args& args, std::string& preset) {
 static const char* const kPresetsHelp =
     "usage: cloudgen presets [--json]\n"
     "\n"
-    "Lists the cloud types (presets) with a one-line description. --json prints\n"
-    "the presets data file itself (every preset with its parameter values).\n"
+    "Lists the cloud types (presets) with a one-line description and the\n"
+    "material settings they suggest (Henyey-Greenstein anisotropy, colour,\n"
+    "volume step rate). --json prints the presets data file itself (every\n"
+    "preset with its parameter values and material).\n"
     "Use a preset with `cloudgen bake --preset NAME` or as \"preset\" in a\n"
     "parameter file.\n";
 
@@ -169,7 +171,21 @@ int cmd_presets(const std::vector<std::string>& argv) {
     std::cout << cg::presets_json();
     return kExitOk;
   }
-  for (const cg::Preset& p : cg::presets()) std::printf("%-12s %s\n", p.name.c_str(), p.description.c_str());
+  for (const cg::Preset& p : cg::presets()) {
+    std::printf("%-18s %s\n", p.name.c_str(), p.description.c_str());
+    if (p.material.empty()) continue;
+    std::string line;
+    for (const cg::MaterialValue& m : p.material) {
+      line += line.empty() ? "" : ", ";
+      line += m.key + " ";
+      for (size_t i = 0; i < m.values.size(); ++i) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%s%g", i ? " " : "", m.values[i]);
+        line += buf;
+      }
+    }
+    std::printf("%-18s material: %s\n", "", line.c_str());
+  }
   return kExitOk;
 }
 

@@ -50,6 +50,18 @@ PyObject* py_presets(PyObject*, PyObject*) {
       Ref entry = check(PyDict_New());
       set_item(entry.get(), "description", str_to_py(preset.description.c_str()));
       set_item(entry.get(), "params", params_to_py(preset.params));
+      Ref material = check(PyDict_New());
+      for (const cg::MaterialValue& m : preset.material) {
+        if (m.values.size() == 1) {
+          set_item(material.get(), m.key.c_str(), check(PyFloat_FromDouble(m.values[0])));
+        } else {
+          Ref list = check(PyList_New(static_cast<Py_ssize_t>(m.values.size())));
+          for (size_t i = 0; i < m.values.size(); ++i)
+            check_status(PyList_SetItem(list.get(), static_cast<Py_ssize_t>(i), check(PyFloat_FromDouble(m.values[i])).release()));
+          set_item(material.get(), m.key.c_str(), std::move(list));
+        }
+      }
+      set_item(entry.get(), "material", std::move(material));
       set_item(dict.get(), preset.name.c_str(), std::move(entry));
     }
     return dict.release();
@@ -167,7 +179,9 @@ PyMethodDef kMethods[] = {
      "soft_max, map (lo, hi: physical = lo + (hi - lo) * value), unit and help."},
     {"presets", py_presets, METH_NOARGS,
      "presets()\n--\n\n"
-     "The cloud types: dict name -> {'description': str, 'params': {name: value}}."},
+     "The cloud types: dict name -> {'description': str, 'params': {name: value},\n"
+     "'material': {'anisotropy': float, 'color': [r, g, b], 'step_rate': float}}\n"
+     "(material keys are optional suggestions for the volume shader)."},
     {"defaults", py_defaults, METH_NOARGS,
      "defaults()\n--\n\n"
      "Every parameter at its declared default, as a params dict."},

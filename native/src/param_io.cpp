@@ -3,6 +3,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <nlohmann/json.hpp>
 
@@ -53,15 +54,49 @@ void apply_object(Params& params, const json& obj, std::string_view origin) {
   }
 }
 
-std::vector<Preset> parse_presets() {
-  std::vector<Preset> out;
-  const json doc = json::parse(kPresetsJson);
-  for (auto it = doc.begin(); it != doc.end(); ++it) {
-    Preset preset;
-    preset.name = it.key();
-    preset.description = it.value().value("description", "");
-    apply_object(preset.params, it.value().at("params"), "preset '" + preset.name + "'");
-    out.push_back(std::move(preset));
+struct MaterialDecl {
+  const char* key;
+  int count;
+  double min, max;
+};
+
+constexpr MaterialDecl kMaterial[] = {
+    {"anisotropy", 1, -1.0, 1.0},
+    {"color", 3, 0.0, 1.0},
+    {"step_rate", 1, 0.01, 100.0},
+};
+
+std::string shortest(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::vector<MaterialValue> parse_material(const json& obj, const std::string& origin) {
+  if (!obj.is_object()) throw ParamError(origin + ": 'material' must be an object; got " + obj.dump());
+  std::vector<MaterialValue> out;
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    const MaterialDecl* decl = nullptr;
+    for (const MaterialDecl& d : kMaterial)
+      if (it.key() == d.key) decl = &d;
+    std::string known;
+    for (const MaterialDecl& d : kMaterial) known += (known.empty() ? "" : ", ") + std::string(d.key);
+    if (!decl) throw ParamError(origin + ": unknown material key '" + it.key() + "' (known: " + known + ")");
+    const std::string what = origin + ": material '" + it.key() + "' must be " +
+                             (decl->count == 1 ? "a number" : "a list of " + std::to_string(decl->count) + " numbers") +
+                             " in [" + shortest(decl->min) + ", " + shortest(decl->max) + "]; got " +
+                             it.value().dump();
+    MaterialValue value{it.key(), {}};
+    const json& v = it.value();
+    if (decl->count == 1 ? !v.is_number() : !(v.is_array() && v.size() == static_cast<size_t>(decl->count)))
+      throw ParamError(what);
+    for (const json& x : decl->count == 1 ? json::array({v}) : v) {
+      if (!x.is_number()) throw ParamError(what);
+      const double d = x.get<double>();
+      if (!(d >= decl->min && d <= decl->max)) throw ParamError(what);  // also NaN
+      value.values.push_back(d);
+    }
+    out.push_back(std::move(value));
   }
   return out;
 }
@@ -77,11 +112,53 @@ json value_json(const Params& p, P i) {
 
 }  // namespace
 
+const std::vector<std::string>& material_keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k;
+    for (const MaterialDecl& d : kMaterial) k.emplace_back(d.key);
+    return k;
+  }();
+  return keys;
+}
+
+std::vector<Preset> parse_presets(std::string_view text) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    throw ParamError(std::string("presets: not valid JSON (") + e.what() + ")");
+  }
+  if (!doc.is_object()) throw ParamError("presets: expected a JSON object of presets");
+  std::vector<Preset> out;
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    const std::string origin = "preset '" + it.key() + "'";
+    const json& entry = it.value();
+    if (!entry.is_object()) throw ParamError(origin + ": expected an object");
+    for (auto k = entry.begin(); k != entry.end(); ++k)
+      if (k.key() != "description" && k.key() != "params" && k.key() != "material")
+        throw ParamError(origin + ": unknown key '" + k.key() + "' (known: description, params, material)");
+    if (!entry.contains("params") || !entry["params"].is_object())
+      throw ParamError(origin + ": 'params' must be an object of parameters");
+    Preset preset;
+    preset.name = it.key();
+    if (entry.contains("description")) {
+      if (!entry["description"].is_string()) throw ParamError(origin + ": 'description' must be text");
+      preset.description = entry["description"].get<std::string>();
+    }
+    apply_object(preset.params, entry["params"], origin);
+    const json material = entry.value("material", json::object());
+    preset.material = parse_material(material, origin);
+    preset.material_json = material.dump();
+    out.push_back(std::move(preset));
+  }
+  return out;
+}
+
 const char* presets_json() { return kPresetsJson; }
 const char* version() { return kCloudgenVersion; }
 
 const std::vector<Preset>& presets() {
-  static const std::vector<Preset> all = parse_presets();
+  static const std::vector<Preset> all = parse_presets(kPresetsJson);
   return all;
 }
 

@@ -2,6 +2,7 @@
 // boundary (Params::set), presets and JSON parameter files (param_io.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -98,6 +99,36 @@ void expect_param_error(F f, const std::vector<std::string>& parts, const std::s
   } catch (const std::exception& e) {
     ADD_FAILURE() << what << ": wrong exception: " << e.what();
   }
+}
+
+TEST(Params, PresetMaterials) {
+  // Every preset has material settings, all known keys, values in range.
+  for (const cg::Preset& p : cg::presets()) {
+    SCOPED_TRACE("preset '" + p.name + "'");
+    EXPECT_FALSE(p.material.empty());
+    EXPECT_EQ(p.material_json.front(), '{');
+    for (const cg::MaterialValue& m : p.material)
+      EXPECT_NE(std::find(cg::material_keys().begin(), cg::material_keys().end(), m.key), cg::material_keys().end());
+  }
+  const auto parse = [](const std::string& material) {
+    return [material] {
+      cg::parse_presets(R"({"x": {"description": "d", "params": {}, "material": )" + material + "}}");
+    };
+  };
+  EXPECT_EQ(cg::parse_presets(R"({"x": {"params": {}}})").at(0).material_json, "{}");
+  const auto ok = cg::parse_presets(R"({"x": {"params": {}, "material": {"anisotropy": 0.5, "color": [1, 0.9, 0.8]}}})");
+  ASSERT_EQ(ok.at(0).material.size(), 2u);
+  EXPECT_EQ(ok.at(0).material[1].values, (std::vector<double>{1, 0.9, 0.8}));
+  expect_param_error(parse(R"({"shininess": 1})"), {"preset 'x'", "unknown material key 'shininess'", "anisotropy"},
+                     "unknown key");
+  expect_param_error(parse(R"({"anisotropy": "high"})"), {"preset 'x'", "'anisotropy'", "a number", "\"high\""},
+                     "text");
+  expect_param_error(parse(R"({"anisotropy": 1.5})"), {"'anisotropy'", "[-1, 1]"}, "out of range");
+  expect_param_error(parse(R"({"color": [1, 1]})"), {"'color'", "3 numbers"}, "short colour");
+  expect_param_error(parse(R"({"color": [1, "1", 1]})"), {"'color'", "3 numbers"}, "colour with text");
+  expect_param_error(parse(R"([1])"), {"'material' must be an object"}, "not an object");
+  expect_param_error([] { cg::parse_presets(R"({"x": {"params": {}, "shader": {}}})"); }, {"unknown key 'shader'"},
+                     "unknown preset key");
 }
 
 TEST(Params, SetRefusesBadValuesNamingKeyAndRange) {

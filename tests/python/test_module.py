@@ -118,6 +118,19 @@ def test_presets_within_declared_ranges():
         assert cn.resolve_params(preset["params"]) == preset["params"], name
 
 
+def test_presets_material():
+    # Tolerance: exact (known keys, numbers, colour of three values in [0, 1]).
+    for name, preset in cn.presets().items():
+        material = preset["material"]
+        assert isinstance(material, dict), name
+        assert set(material) <= {"anisotropy", "color", "step_rate"}, (name, material)
+        assert isinstance(material.get("anisotropy", 0.0), float), (name, material)
+        assert -1.0 <= material.get("anisotropy", 0.0) <= 1.0, (name, material)
+        if "color" in material:
+            assert len(material["color"]) == 3 and all(0.0 <= c <= 1.0 for c in material["color"]), name
+    assert cn.presets()["cumulus"]["material"]["anisotropy"] == 0.3
+
+
 def test_preset_key_then_overrides():
     # Tolerance: exact.
     base = cn.presets()["cumulus"]["params"]

@@ -16,14 +16,33 @@
 
 namespace cg {
 
+// Material settings of a preset (its "material" object): suggestions for the
+// volume shader, not part of the density model. Known keys, each optional:
+//   "anisotropy"  Henyey-Greenstein g of the Principled Volume, [-1, 1]
+//   "color"       RGB scattering albedo, three numbers in [0, 1]
+//   "step_rate"   Cycles volume step rate of the material, [0.01, 100]
+struct MaterialValue {
+  std::string key;
+  std::vector<double> values;  // one for a number, three for "color"
+};
+
 struct Preset {
   std::string name;
   std::string description;
   Params params;
+  std::vector<MaterialValue> material;  // in the data file's key order
+  std::string material_json;            // the "material" object as compact JSON ("{}" when absent)
 };
+
+// The material keys a preset may set.
+const std::vector<std::string>& material_keys();
 
 // All presets, parsed once from the data file compiled in (native/presets/clouds.json).
 const std::vector<Preset>& presets();
+// Parse a presets file's text (an object: name -> {"description", "params",
+// "material"}). Throws ParamError naming the preset and key of the first bad
+// value (unknown parameter or material key, non-number, out of range).
+std::vector<Preset> parse_presets(std::string_view text);
 // nullptr when there is no such preset.
 const Preset* find_preset(std::string_view name);
 // The raw JSON text of the presets file (for the add-on and the docs).
