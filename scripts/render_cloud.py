@@ -4,9 +4,17 @@ Usage: .venv/bin/python scripts/render_cloud.py --preset cumulus --output out/cu
        [--params FILE.json] [--size 320x240] [--samples 64] [--step-rate 0.05] [--seed 0]
 
 Builds a small scene — the cloud box with a Principled Volume fed by Cloud
-Main, a camera looking at it from slightly below, a sun and a blue sky — and
-renders it on the CPU with OSL, denoising off (the output is what the model
-computes, not a denoiser's guess). Writes the image atomically.
+Main, a camera, a sun and a blue sky — and renders it on the CPU with OSL,
+denoising off (the output is what the model computes, not a denoiser's guess).
+Writes the image atomically.
+
+The Principled Volume takes the preset's material settings ("material" in
+native/presets/clouds.json: anisotropy, color, step_rate); --step-rate
+overrides the step rate. The camera is placed from the box and the lens
+(`frame_camera`): a compact or tall cloud is seen from the side, slightly
+below its middle, far enough back that the whole box fits; a layer cloud (a
+box much wider than tall) is lifted overhead and seen from below at an angle,
+its far edge just above the bottom of the frame.
 """
 from __future__ import annotations
 
@@ -31,13 +39,34 @@ def parse_args(argv):
     ap.add_argument("--output", required=True, help="PNG (8-bit) or EXR (float) file to write")
     ap.add_argument("--size", default="320x240", help="WxH pixels (default 320x240)")
     ap.add_argument("--samples", type=int, default=64, help="samples per pixel (default 64)")
-    ap.add_argument("--step-rate", type=float, default=0.2,
-                    help="volume step rate of the material (Cycles; default 0.2)")
+    ap.add_argument("--step-rate", type=float, default=None,
+                    help="volume step rate of the material (Cycles; default: the preset's, else 0.2)")
     ap.add_argument("--seed", type=int, default=0, help="Cycles sampling seed")
     ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
     ap.add_argument("--no-early-exit", action="store_true",
                     help="compile Cloud Main without its early exit (benchmarking only)")
     return ap.parse_args(argv)
+
+
+DEFAULT_MATERIAL = {"anisotropy": 0.3, "color": [1.0, 1.0, 1.0], "step_rate": 0.2}
+LENS_MM = 50.0
+LAYER_RATIO = 0.3  # a box whose height is below this fraction of its width is a layer
+
+
+def resolve_material(args):
+    """The preset's material settings over the defaults (a parameter file's
+    "preset" counts too); --step-rate wins."""
+    import cloudgen_native as cn
+
+    preset = args.preset
+    if preset is None:
+        preset = json.loads(pathlib.Path(args.params).read_text()).get("preset")
+    material = dict(DEFAULT_MATERIAL)
+    if preset in cn.presets():
+        material.update(cn.presets()[preset].get("material", {}))
+    if getattr(args, "step_rate", None) is not None:
+        material["step_rate"] = args.step_rate
+    return material
 
 
 def resolve_params(args):
@@ -76,7 +105,7 @@ def build_scene(values, args):
     scene.view_settings.view_transform = "Standard"
 
     box = values["box_size"]
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, box[2] / 2))
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, box[2] / 2))  # frame_camera may lift it
     cloud = bpy.context.active_object
     cloud.name = "Cloud"
     cloud.scale = box
@@ -87,25 +116,23 @@ def build_scene(values, args):
     coords = nt.nodes.new("ShaderNodeTexCoord")
     defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
     main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"], defines=defines)
+    material = resolve_material(args)
     volume = nt.nodes.new("ShaderNodeVolumePrincipled")
-    volume.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    volume.inputs["Anisotropy"].default_value = 0.3
+    volume.inputs["Color"].default_value = (*material["color"], 1.0)
+    volume.inputs["Anisotropy"].default_value = material["anisotropy"]
     out = nt.nodes.new("ShaderNodeOutputMaterial")
     nt.links.new(main.outputs["Density"], volume.inputs["Density"])
     nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
-    mat.cycles.volume_step_rate = args.step_rate
+    mat.cycles.volume_step_rate = material["step_rate"]
     cloud.data.materials.append(mat)
 
-    # camera below the cloud's middle, looking up at its centre
-    size = max(box)
     cam_data = bpy.data.cameras.new("Camera")
-    cam_data.lens = 50
+    cam_data.lens = LENS_MM
     cam = bpy.data.objects.new("Camera", cam_data)
     scene.collection.objects.link(cam)
-    distance = 1.9 * size
-    cam.location = (0.0, -distance, box[2] * 0.3)
-    pitch_up = math.atan2(box[2] * 0.5 - cam.location[2], distance)
-    cam.rotation_euler = (math.radians(90.0) + pitch_up, 0.0, 0.0)
+    location, rotation, cloud_z = frame_camera(box, w, h, cam_data.sensor_width)
+    cam.location, cam.rotation_euler = location, rotation
+    cloud.location.z = cloud_z
     scene.camera = cam
 
     sun_data = bpy.data.lights.new("Sun", "SUN")
@@ -122,6 +149,33 @@ def build_scene(values, args):
     bg.inputs["Strength"].default_value = 0.8
     scene.world = world
     return scene
+
+
+def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM):
+    """Camera (location, euler rotation) and the cloud box's centre height for a
+    box of `box` scene units seen in a width x height image. The camera looks
+    along +y (the box's x side faces it)."""
+    # half the field of view, as tangents (Blender's AUTO sensor fit: the sensor spans the longer side)
+    t = (sensor_mm / 2) / lens_mm
+    tan_x, tan_z = (t, t * height / width) if width >= height else (t * width / height, t)
+    bx, by, bz = box
+    wide = max(bx, by)
+    if bz < LAYER_RATIO * wide:
+        # a layer: overhead, seen from below, the camera under the near part of the layer
+        altitude = 0.35 * wide              # of the layer's base above the camera
+        back = 0.1 * wide                   # camera this far inside the near edge
+        far = by - back                     # horizontal distance to the far edge
+        far_elevation = math.atan2(altitude, far)
+        pitch = far_elevation + 0.7 * math.atan(tan_z)  # far edge in the lower part of the frame
+        location = (0.0, -by / 2 + back, 0.0)
+        return location, (math.radians(90.0) + pitch, 0.0, 0.0), altitude + bz / 2
+    # a compact or tall cloud from the side: 1.9 x its largest side away (the
+    # reference framing of the cumulus), further when the box would not fit
+    fit = max(bx / 2 / tan_x, bz / 2 / tan_z) + by / 2
+    distance = max(1.9 * max(box), fit)
+    location = (0.0, -distance, bz * 0.3)
+    pitch_up = math.atan2(bz * 0.5 - location[2], distance)
+    return location, (math.radians(90.0) + pitch_up, 0.0, 0.0), bz / 2
 
 
 def render(scene, output):
