@@ -179,6 +179,12 @@ def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM):
 
 
 def render(scene, output):
+    """Render to `output` atomically. Blender writes into a private directory in
+    the system temp dir (a render killed mid-way leaves nothing next to the
+    output); the finished image is copied beside the output and renamed into
+    place."""
+    import shutil
+
     import bpy
 
     output = pathlib.Path(output)
@@ -187,20 +193,25 @@ def render(scene, output):
     scene.render.image_settings.file_format = fmt
     if fmt == "OPEN_EXR":
         scene.render.image_settings.color_depth = "32"
-    fd, tmp = tempfile.mkstemp(prefix=output.name + ".", suffix=output.suffix, dir=output.parent)
-    os.close(fd)
+    work = tempfile.mkdtemp(prefix="cloudgen-render-")
+    staged = None
     try:
-        scene.render.filepath = tmp
+        scene.render.filepath = os.path.join(work, "render" + output.suffix)
         t0 = time.perf_counter()
         bpy.ops.render.render(write_still=True)
         seconds = time.perf_counter() - t0
+        fd, staged = tempfile.mkstemp(prefix="." + output.name + ".", suffix=".tmp", dir=output.parent)
+        os.close(fd)
+        shutil.copyfile(scene.render.filepath, staged)
         umask = os.umask(0)
         os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp made it private; give it the usual mode
-        os.replace(tmp, output)
+        os.chmod(staged, 0o666 & ~umask)  # mkstemp made it private; give it the usual mode
+        os.replace(staged, output)
+        staged = None
     finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+        shutil.rmtree(work, ignore_errors=True)
+        if staged and os.path.exists(staged):
+            os.remove(staged)
     return seconds
 
 
