@@ -1,0 +1,379 @@
+"""Bake to VDB: run `cloudgen bake` on the active cloud (one frame, or the scene's
+frame range as a sequence), then create or update its Volume object and switch
+the cloud between procedural and baked.
+
+- The bake runs in a subprocess (bake_process.py): with a window it is modal
+  (progress bar, ESC or right-click cancels); in background mode (`blender -b`,
+  the bpy wheel: no window) it runs synchronously and prints its progress.
+- The VDB grid lives in the cloud's local frame (centred, the object's scale
+  folded into the box size, docs/model.md §8), so the Volume object
+  `<cloud>_VDB` is parented to the cloud with the cloud's scale cancelled:
+  it sits at the cloud's location and rotation and moves with it.
+- cloud["cloudgen_source"] is 'PROCEDURAL' or 'BAKED'; BAKED hides the
+  procedural box from render and shows the Volume object.
+- Cancel, a full disk or an unwritable path leave no partial file and are
+  reported with self.report({'ERROR'}, ...).
+"""
+import os
+
+import bpy
+from mathutils import Matrix
+
+from . import bake_process, bridge
+
+SOURCE_KEY = "cloudgen_source"
+BAKED_FROM_KEY = "cloudgen_baked_from"
+DEFAULT_DIR = "//cloudgen/"
+
+
+# ---------------------------------------------------------------- parameters
+def cloud_params(obj) -> dict:
+    """Every parameter of the cloud as the render uses it (cloud_object.params_from_object);
+    for a cloud without the node groups, its type's preset with the object's box and location."""
+    try:
+        from . import cloud_object  # noqa: PLC0415
+        return cloud_object.params_from_object(obj)
+    except (ImportError, LookupError, AttributeError):
+        pass
+    presets = bridge.presets()
+    kind = obj.get("cloudgen_type", "cumulus")
+    if kind not in presets:
+        raise LookupError(f"{obj.name}: unknown cloud type {kind!r}")
+    values = dict(presets[kind]["params"])
+    values["box_size"] = [float(x) for x in obj.dimensions]
+    values["object_location"] = [float(x) for x in obj.matrix_world.translation]
+    return values
+
+
+def is_cloud(obj) -> bool:
+    return obj is not None and "cloudgen_type" in obj.keys()
+
+
+def default_path(obj) -> str:
+    return DEFAULT_DIR + bpy.path.clean_name(obj.name) + ".vdb"
+
+
+def resolve_output(path: str) -> str:
+    """Absolute output path; ValueError for a blend-relative path in an unsaved file."""
+    if path.startswith("//") and not bpy.data.filepath:
+        raise ValueError(f"the output path {path!r} is relative to the .blend file, which is "
+                         "not saved yet: save the file or give an absolute path")
+    out = os.path.normpath(bpy.path.abspath(path))
+    if not out.lower().endswith(".vdb"):
+        raise ValueError(f"the output path {out!r} must end in .vdb")
+    return out
+
+
+def scene_frames(scene):
+    return scene.frame_start, scene.frame_end, scene.render.fps / scene.render.fps_base
+
+
+# ---------------------------------------------------------------- the result
+def baked_object(cloud):
+    """The cloud's Volume object, or None."""
+    for child in cloud.children:
+        if child.get(BAKED_FROM_KEY) == cloud.name and child.type == "VOLUME":
+            return child
+    obj = bpy.data.objects.get(cloud.name + "_VDB")
+    return obj if obj is not None and obj.type == "VOLUME" else None
+
+
+def _baked_material(cloud):
+    """A volume material reading the grid `density`: the cloud's own volume shader
+    (same phase function and colour as the procedural render), or a Principled Volume."""
+    name = cloud.name + "_VDB"
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    look = bridge.presets().get(cloud.get("cloudgen_type", ""), {}).get("material", {})
+    source = None
+    for m in getattr(cloud.data, "materials", []):
+        if m and m.node_tree and "Cloud Volume" in m.node_tree.nodes:
+            source = m.node_tree.nodes["Cloud Volume"]
+            break
+    if source is not None:
+        volume = nt.nodes.new(source.bl_idname)
+        for attr in ("phase",):
+            if hasattr(source, attr):
+                setattr(volume, attr, getattr(source, attr))
+        for sock in source.inputs:
+            if sock.name != "Density" and not sock.is_linked and hasattr(sock, "default_value") \
+                    and sock.name in volume.inputs:
+                volume.inputs[sock.name].default_value = sock.default_value
+    else:
+        volume = nt.nodes.new("ShaderNodeVolumePrincipled")
+        volume.inputs["Color"].default_value = tuple(look.get("color", (1.0, 1.0, 1.0)))[:3] + (1.0,)
+        volume.inputs["Anisotropy"].default_value = float(look.get("anisotropy", 0.3))
+    volume.name = "Cloud Volume"
+    attr = nt.nodes.new("ShaderNodeAttribute")
+    attr.attribute_name = "density"
+    attr.name = "Density Grid"
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    attr.location, volume.location, out.location = (-250, 0), (0, 0), (300, 0)
+    nt.links.new(attr.outputs["Fac"], volume.inputs["Density"])
+    nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
+    if hasattr(mat, "cycles") and hasattr(mat.cycles, "volume_step_rate"):
+        mat.cycles.volume_step_rate = 1.0  # a VDB steps at its voxel size
+    return mat
+
+
+def apply_bake(context, cloud, stored_path: str, frames=None):
+    """Create or update `<cloud>_VDB` reading stored_path (the first file of a sequence)
+    and switch the cloud to BAKED. Returns the Volume object."""
+    obj = baked_object(cloud)
+    if obj is None:
+        vol = bpy.data.volumes.new(cloud.name + "_VDB")
+        obj = bpy.data.objects.new(cloud.name + "_VDB", vol)
+        for coll in cloud.users_collection or (context.scene.collection,):
+            coll.objects.link(obj)
+    vol = obj.data
+    vol.filepath = stored_path
+    vol.is_sequence = frames is not None
+    if frames is not None:
+        first, last = frames
+        vol.frame_start = first
+        vol.frame_duration = last - first + 1
+        vol.frame_offset = first - 1  # files are numbered by scene frame
+        vol.sequence_mode = "CLIP"
+    vol.grids.load()
+    obj[BAKED_FROM_KEY] = cloud.name
+    # the grid is in the cloud's local frame with the scale folded in: cancel the scale
+    obj.parent = cloud
+    scale = [s if abs(s) > 1e-12 else 1.0 for s in cloud.scale]
+    obj.matrix_parent_inverse = Matrix.Diagonal((1.0 / scale[0], 1.0 / scale[1], 1.0 / scale[2], 1.0))
+    obj.matrix_basis = Matrix.Identity(4)
+    mat = _baked_material(cloud)
+    if obj.data.materials:
+        obj.data.materials[0] = mat
+    else:
+        obj.data.materials.append(mat)
+    set_source(cloud, "BAKED")
+    return obj
+
+
+def set_source(cloud, source: str):
+    """'BAKED': render the Volume object, not the procedural box; 'PROCEDURAL': the reverse."""
+    if source not in ("PROCEDURAL", "BAKED"):
+        raise ValueError(f"source must be PROCEDURAL or BAKED, not {source!r}")
+    baked = baked_object(cloud)
+    if source == "BAKED" and baked is None:
+        raise LookupError(f"{cloud.name} has no baked VDB yet: bake it first")
+    cloud[SOURCE_KEY] = source
+    cloud.hide_render = source == "BAKED"
+    if baked is not None:
+        baked.hide_render = source != "BAKED"
+        baked.hide_viewport = source != "BAKED"
+
+
+# ---------------------------------------------------------------- operators
+# 4.5 warns about "//" in a FILE_PATH property unless it says it supports it (3.4 has no such option)
+def _relative_ok():
+    try:
+        bpy.props.StringProperty(options={"PATH_SUPPORTS_BLEND_RELATIVE"})
+        return {"options": {"PATH_SUPPORTS_BLEND_RELATIVE"}}
+    except TypeError:
+        return {}
+
+
+_RELATIVE_OK = _relative_ok()
+class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
+    """Bake the active cloud to an OpenVDB file (or a sequence over the scene's frame
+    range) with the cloudgen command-line tool, and render the baked volume instead"""
+    bl_idname = "cloudgen.bake_vdb"
+    bl_label = "Bake to VDB"
+    bl_options = {"REGISTER"}
+
+    filepath: bpy.props.StringProperty(
+        name="Output", subtype="FILE_PATH", default="", **_RELATIVE_OK,
+        description="VDB file to write (empty: //cloudgen/<object>.vdb); for a sequence "
+                    "a run of # is the frame number, else _0001 goes before .vdb")
+    resolution: bpy.props.IntProperty(name="Resolution", default=96, min=1, max=4096,
+                                      description="Voxels along the longest box side")
+    sequence: bpy.props.BoolProperty(name="Frame Range", default=False,
+                                     description="Bake the scene's frame range as a VDB sequence")
+    no_lod: bpy.props.BoolProperty(name="Full Detail", default=False,
+                                   description="Evaluate every noise octave (no level of detail)")
+
+    _job = None
+    _timer = None
+
+    @classmethod
+    def poll(cls, context):
+        return is_cloud(getattr(context, "active_object", None) or context.view_layer.objects.active)
+
+    # -- preparing
+    def _prepare(self, context):
+        cloud = context.view_layer.objects.active
+        if not is_cloud(cloud):
+            raise ValueError("the active object is not a cloud")
+        exe = bridge.cloudgen_executable()
+        if exe is None:
+            raise ValueError("the cloudgen command-line tool is missing (not in the add-on's bin/ "
+                             "nor on PATH): reinstall the add-on")
+        given = self.filepath or default_path(cloud)
+        output = resolve_output(given)
+        parent = os.path.dirname(output)
+        if os.path.exists(parent) and not os.path.isdir(parent):
+            raise ValueError(f"cannot write {output!r}: {parent!r} is a file, not a folder")
+        try:
+            os.makedirs(parent, exist_ok=True)
+        except OSError as exc:
+            raise ValueError(f"cannot create the folder {parent!r}: {exc.strerror}") from exc
+        params = cloud_params(cloud)
+        frames, fps = None, 24.0
+        if self.sequence:
+            first, last, fps = scene_frames(context.scene)
+            frames = (first, last)
+        extra = ("--no-lod",) if self.no_lod else ()
+        job = bake_process.BakeJob(exe, params, self.resolution, output, frames, fps, extra)
+        paths = bake_process.sequence_paths(output, *frames) if frames else [output]
+        stored = paths[0]
+        if given.startswith("//"):
+            stored = bpy.path.relpath(stored)
+        return cloud, job, stored, frames
+
+    def _finish(self, context, cloud, result, stored, frames):
+        if not result.ok:
+            level = {"WARNING"} if result.cancelled else {"ERROR"}
+            self.report(level, f"Bake to VDB: {result.message}")
+            return {"CANCELLED"}
+        try:
+            obj = apply_bake(context, cloud, stored, frames)
+        except (RuntimeError, LookupError, ValueError) as exc:
+            self.report({"ERROR"}, f"Bake to VDB: baked, but the Volume object failed: {exc}")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Bake to VDB: {result.message} → {obj.name}")
+        return {"FINISHED"}
+
+    # -- background / scripted: synchronous
+    def execute(self, context):
+        try:
+            cloud, job, stored, frames = self._prepare(context)
+        except (ValueError, LookupError, RuntimeError) as exc:
+            self.report({"ERROR"}, f"Bake to VDB: {exc}")
+            return {"CANCELLED"}
+        last = [-1]
+
+        def progress(p):
+            if int(p) != last[0]:
+                last[0] = int(p)
+                print(f"cloudgen bake {cloud.name}: {p:.0f}%", flush=True)
+
+        job.on_progress = progress
+        try:
+            job.start()
+            result = job.wait()
+        except bake_process.BakeError as exc:
+            result = exc.result
+        except KeyboardInterrupt:
+            job.cancel()
+            result = job.wait()
+        return self._finish(context, cloud, result, stored, frames)
+
+    # -- with a window: modal, progress bar, ESC cancels
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        try:
+            cloud, job, stored, frames = self._prepare(context)
+            job.start()
+        except (ValueError, LookupError, RuntimeError) as exc:
+            self.report({"ERROR"}, f"Bake to VDB: {exc}")
+            return {"CANCELLED"}
+        self._job, self._state = job, (cloud, stored, frames)
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0, 100)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            self._job.cancel()
+            return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        result = self._job.poll()
+        wm = context.window_manager
+        if result is None:
+            wm.progress_update(int(self._job.progress))
+            if context.area:
+                context.area.header_text_set(f"Baking {self._state[0].name}: "
+                                             f"{self._job.progress:.0f}% (Esc to cancel)")
+            return {"RUNNING_MODAL"}
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        if context.area:
+            context.area.header_text_set(None)
+        cloud, stored, frames = self._state
+        return self._finish(context, cloud, result, stored, frames)
+
+    def cancel(self, context):  # Blender quits or the window closes mid-bake
+        if self._job is not None:
+            self._job.cancel()
+            self._job.wait()
+        if self._timer is not None:
+            context.window_manager.event_timer_remove(self._timer)
+            context.window_manager.progress_end()
+
+
+class CLOUDGEN_OT_cloud_source(bpy.types.Operator):
+    """Render the cloud procedurally (OSL) or from its baked VDB"""
+    bl_idname = "cloudgen.cloud_source"
+    bl_label = "Cloud Source"
+    bl_options = {"REGISTER", "UNDO"}
+
+    source: bpy.props.EnumProperty(name="Source", items=(
+        ("PROCEDURAL", "Procedural", "Render the OSL shaders (Cycles, CPU or OptiX)"),
+        ("BAKED", "Baked", "Render the baked VDB (any engine and device)")))
+
+    @classmethod
+    def poll(cls, context):
+        return is_cloud(context.view_layer.objects.active)
+
+    def execute(self, context):
+        cloud = context.view_layer.objects.active
+        try:
+            set_source(cloud, self.source)
+        except LookupError as exc:
+            self.report({"ERROR"}, f"Cloud Source: {exc}")
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+class CLOUDGEN_PT_bake(bpy.types.Panel):
+    bl_label = "Bake"
+    bl_idname = "CLOUDGEN_PT_bake"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Cloud"
+    bl_parent_id = "CLOUDGEN_PT_main"
+
+    @classmethod
+    def poll(cls, context):
+        return is_cloud(context.view_layer.objects.active)
+
+    def draw(self, context):
+        layout = self.layout
+        cloud = context.view_layer.objects.active
+        col = layout.column(align=True)
+        op = col.operator(CLOUDGEN_OT_bake_vdb.bl_idname, text="Bake Frame", icon="FILE_VOLUME")
+        op.sequence = False
+        op = col.operator(CLOUDGEN_OT_bake_vdb.bl_idname, text="Bake Frame Range", icon="SEQUENCE")
+        op.sequence = True
+        source = cloud.get(SOURCE_KEY, "PROCEDURAL")
+        row = layout.row(align=True)
+        for key, label in (("PROCEDURAL", "Procedural"), ("BAKED", "Baked")):
+            sub = row.row(align=True)
+            sub.enabled = key == "PROCEDURAL" or baked_object(cloud) is not None
+            op = sub.operator(CLOUDGEN_OT_cloud_source.bl_idname, text=label, depress=source == key)
+            op.source = key
+        baked = baked_object(cloud)
+        if baked is not None:
+            layout.label(text=f"{baked.name}: {baked.data.filepath}", icon="OUTLINER_DATA_VOLUME")
+        if not bpy.data.filepath:
+            layout.label(text="Save the .blend first (output is //cloudgen/)", icon="INFO")
+
+
+classes = (CLOUDGEN_OT_bake_vdb, CLOUDGEN_OT_cloud_source, CLOUDGEN_PT_bake)
