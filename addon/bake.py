@@ -167,16 +167,9 @@ def set_source(cloud, source: str):
 
 
 # ---------------------------------------------------------------- operators
-# 4.5 warns about "//" in a FILE_PATH property unless it says it supports it (3.4 has no such option)
-def _relative_ok():
-    try:
-        bpy.props.StringProperty(options={"PATH_SUPPORTS_BLEND_RELATIVE"})
-        return {"options": {"PATH_SUPPORTS_BLEND_RELATIVE"}}
-    except TypeError:
-        return {}
-
-
-_RELATIVE_OK = _relative_ok()
+# 4.5 warns about "//" in a FILE_PATH property unless it says it supports it;
+# older versions (3.4) do not know the option (checked at registration, not here)
+_RELATIVE_OK = {"options": {"PATH_SUPPORTS_BLEND_RELATIVE"}} if bpy.app.version >= (4, 5, 0) else {}
 class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
     """Bake the active cloud to an OpenVDB file (or a sequence over the scene's frame
     range) with the cloudgen command-line tool, and render the baked volume instead"""

@@ -1,0 +1,85 @@
+"""Run inside Debian's Blender 3.4 (no OSL) by test_blender34.py:
+
+    blender -b --factory-startup --python-exit-code 1 --python tests/batch/bake_types.py -- \
+        OUT_DIR TYPE[,TYPE...] [--farm]
+
+Enables the packaged add-on (BLENDER_USER_SCRIPTS/addons/cloudgen), and for each
+type: an empty scene saved as OUT_DIR/TYPE.blend, the add-on's cloud, a bake at
+resolution 24, a Cycles CPU render of the baked cloud (32x24, 2 spp) to
+OUT_DIR/TYPE.png. With --farm the last scene keeps frames 1-2 baked as a
+sequence and is saved for the farm command line. Prints one line per type:
+`BATCH-RESULT {json}`. Any exception fails Blender's exit code."""
+import json
+import math
+import sys
+
+import addon_utils
+import bpy
+
+argv = sys.argv[sys.argv.index("--") + 1:]
+out_dir, types, farm = argv[0], argv[1].split(","), "--farm" in argv
+
+mod = addon_utils.enable("cloudgen", default_set=True, handle_error=lambda exc: (_ for _ in ()).throw(exc))
+assert mod is not None, "cannot enable the cloudgen add-on"
+from cloudgen import bake, cloud_object  # noqa: E402
+
+own = [c for c in bake.classes if not getattr(c, "is_registered", False)]
+for c in own:
+    bpy.utils.register_class(c)
+
+
+def scene_for(name):
+    bpy.ops.wm.read_homefile(use_empty=True)
+    sc = bpy.context.scene
+    sc.render.engine = "CYCLES"  # 3.4 starts in Eevee
+    sc.cycles.device = "CPU"
+    sc.cycles.samples = 2
+    sc.cycles.use_denoising = False
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    sc.render.resolution_percentage = 100
+    sc.view_settings.view_transform = "Standard"
+    sc.frame_start, sc.frame_end = 1, 2
+    bpy.ops.wm.save_as_mainfile(filepath=f"{out_dir}/{name}.blend")
+    return sc
+
+
+def camera_and_sun(sc, cloud):
+    bx, by, bz = cloud.dimensions
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    half_fov = math.atan(18.0 / cam.data.lens)
+    distance = 0.5 * max(bx, bz * 32 / 24) / 0.8 / math.tan(half_fov) + by / 2
+    c = cloud.location
+    cam.location = (c[0], c[1] - distance, c[2])
+    cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    sc.collection.objects.link(cam)
+    sc.camera = cam
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 5.0
+    sun.rotation_euler = (math.radians(40), 0.0, math.radians(-35))
+    sc.collection.objects.link(sun)
+
+
+for i, kind in enumerate(types):
+    sc = scene_for(kind)
+    cloud = cloud_object.create_cloud(bpy.context, kind)
+    camera_and_sun(sc, cloud)
+    sequence = farm and i == len(types) - 1
+    assert bpy.ops.cloudgen.bake_vdb(resolution=24, sequence=sequence) == {"FINISHED"}
+    vdb = bake.baked_object(cloud)
+    assert vdb is not None and cloud["cloudgen_source"] == "BAKED" and cloud.hide_render
+    sc.render.image_settings.file_format = "PNG"
+    sc.render.filepath = f"{out_dir}/{kind}.png"
+    bpy.ops.render.render(write_still=True)
+    img = bpy.data.images.load(sc.render.filepath)
+    px = list(img.pixels)
+    lum = [max(px[j:j + 3]) for j in range(0, len(px), 4)]
+    lit = sum(v > 0.02 for v in lum) / len(lum)
+    print("BATCH-RESULT " + json.dumps({"type": kind, "vdb": bpy.path.abspath(vdb.data.filepath),
+                                        "lit": lit, "max": max(lum), "version": bpy.app.version_string}),
+          flush=True)
+    if sequence:
+        bpy.ops.wm.save_mainfile()
+
+for c in reversed(own):
+    bpy.utils.unregister_class(c)
+addon_utils.disable("cloudgen", default_set=True)
