@@ -69,4 +69,6 @@ fi
 log "building (build/)"
 cmake --build build --parallel "$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
 test "${PIPESTATUS[0]}" -eq 0
+log "packaging the Blender add-on (build/addon/cloudgen, build/cloudgen-addon.zip)"
+python scripts/package_addon.py >/dev/null
 log "ready: build/bin/cloudgen, .venv/bin/python -c 'import cloudgen_native'"

@@ -2,7 +2,7 @@
 # All the tests: set up (with the test-only packages), the native tests
 # (ctest), the same native tests under AddressSanitizer + UBSan in a second
 # build directory, the Python tests (pytest: module, CLI, round trips) and the
-# Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render).
+# Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render, the add-on).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -23,4 +23,4 @@ ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:hal
   CLOUDGEN_TEST_SCALE=sanitize ctest --test-dir build-sanitize --output-on-failure --parallel "$(nproc)"
 
 echo "== Python tests (module, CLI, round trips) and Blender tests (bpy 4.5: OSL, parity, render)"
-CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/blender
+CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/blender tests/addon

@@ -1,0 +1,130 @@
+"""The add-on's only door to the native core (cloudgen_native) and to the
+files shipped inside the package (shaders, presets, the cloudgen CLI).
+
+The module is loaded from the package's own `lib/cloudgen_native.abi3.so`
+first, else by a plain `import cloudgen_native`. When neither works the
+add-on still registers: `error()` is one line naming what failed, which every
+panel shows and every operator that needs the core reports.
+
+Set CLOUDGEN_ADDON_NO_NATIVE=1 to behave as if the module were missing (tests).
+"""
+from __future__ import annotations
+
+import importlib.machinery
+import importlib.util
+import json
+import os
+import pathlib
+
+PACKAGE_DIR = pathlib.Path(__file__).resolve().parent
+LIB_DIR = PACKAGE_DIR / "lib"
+SHADER_DIR = PACKAGE_DIR / "shaders"
+PRESETS_JSON = PACKAGE_DIR / "presets" / "clouds.json"
+
+_module = None
+_error = None
+_loaded = False
+
+
+def _load():
+    global _module, _error, _loaded
+    _module, _error, _loaded = None, None, True
+    if os.environ.get("CLOUDGEN_ADDON_NO_NATIVE") == "1":
+        _error = "cloudgen_native disabled (CLOUDGEN_ADDON_NO_NATIVE=1)"
+        return
+    problems = []
+    for path in sorted(LIB_DIR.glob("cloudgen_native*.so")) + sorted(LIB_DIR.glob("cloudgen_native*.pyd")):
+        try:
+            loader = importlib.machinery.ExtensionFileLoader("cloudgen_native", str(path))
+            spec = importlib.util.spec_from_file_location("cloudgen_native", str(path), loader=loader)
+            mod = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(mod)
+            _module = mod
+            return
+        except Exception as exc:  # noqa: BLE001 - any failure becomes the one-line report
+            problems.append(f"{path.name}: {exc}")
+    try:
+        import cloudgen_native as mod  # noqa: PLC0415
+        _module = mod
+    except Exception as exc:  # noqa: BLE001
+        problems.append(f"import cloudgen_native: {exc}")
+        _error = "cloudgen native module unavailable — " + "; ".join(problems)
+
+
+def reload():
+    """Forget the loaded module and try again (after installing it, or in tests)."""
+    global _loaded
+    _loaded = False
+    _load()
+
+
+def native():
+    """The cloudgen_native module, or None (see error())."""
+    if not _loaded:
+        _load()
+    return _module
+
+
+def error() -> str | None:
+    """One line saying why the native module is unavailable, or None."""
+    if not _loaded:
+        _load()
+    return _error
+
+
+def require():
+    """The module, or RuntimeError with the one-line reason."""
+    mod = native()
+    if mod is None:
+        raise RuntimeError(_error)
+    return mod
+
+
+def parameters() -> list:
+    return list(require().parameters())
+
+
+def presets() -> dict:
+    """{name: {"description", "params", "material"}}: the core's presets, or the
+    shipped JSON's (so the cloud-type menu still lists the types) when the
+    module is missing."""
+    mod = native()
+    if mod is not None:
+        return dict(mod.presets())
+    try:
+        return json.loads(PRESETS_JSON.read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+def resolve_params(values: dict) -> dict:
+    """Validated full parameter set; ValueError/TypeError name the bad key and its range."""
+    return dict(require().resolve_params(values))
+
+
+def slice(values: dict, axis: str, offset: float, width: int, height: int):  # noqa: A001
+    return require().slice(values, axis, offset, width, height)
+
+
+def shader_source(name: str) -> str:
+    """The flattened (self-contained) OSL source shipped in shaders/<name>.osl."""
+    path = SHADER_DIR / f"{name}.osl"
+    if not path.is_file():
+        raise FileNotFoundError(f"shader {name!r} is not in the add-on package ({path})")
+    return path.read_text()
+
+
+def cloudgen_executable() -> str | None:
+    """Path of the `cloudgen` CLI shipped in bin/ (executable), else the one on PATH, else None."""
+    import shutil  # noqa: PLC0415
+
+    path = PACKAGE_DIR / "bin" / "cloudgen"
+    if path.is_file():
+        if not os.access(path, os.X_OK):
+            try:
+                path.chmod(path.stat().st_mode | 0o111)  # zips may drop the mode
+            except OSError:
+                pass
+        if os.access(path, os.X_OK):
+            return str(path)
+    return shutil.which("cloudgen")

@@ -1,0 +1,315 @@
+"""The two node groups, as the thesis splits them, and the cloud material.
+
+Cloud Noise (shared by every cloud): the noise texture; inputs are the Cloud
+Noise, Animation and Box parameters; output "Noise" in [0, 1].
+Cloud Main (one per cloud, because it holds that cloud's Shape Gradient
+curve): inputs the Cloud Main parameters and "Distortion Noise"; output
+"Density". Inside each group: Texture Coordinate → the OSL Script nodes in
+INTERNAL mode (text datablocks with the flattened shaders, saved in the
+.blend), wired with blender_nodes.py's helpers; in Cloud Main the Cloud
+Height shader feeds a Float Curve named "Shape Gradient" (the preset's 17
+samples, vector handles) which feeds Cloud Main's shape_gradient.
+
+Socket ranges: a group socket's min/max are *soft* limits in Blender (they
+bound the slider; Python, drivers and links may go beyond), so the sockets
+carry the declared soft range (slider range) and the declared default;
+floats whose soft range lies in [0, 1] and ends at 1 are FACTOR sliders. The declared
+hard range is enforced where values reach the core (preview, bake) with a
+message naming the parameter.
+"""
+import bpy
+
+from . import blender_nodes, bridge
+
+MAIN_GROUP = "Cloud Main"
+NOISE_GROUP = "Cloud Noise"
+CURVE_NODE = "Shape Gradient"
+DISTORTION_NOISE = "Distortion Noise"
+GROUP_OF = {"Cloud Main": MAIN_GROUP, "Cloud Noise": NOISE_GROUP, "Animation": NOISE_GROUP,
+            "Box": NOISE_GROUP}
+PANEL_OF = {"Cloud Main": "Cloud Main", "Cloud Noise": "Noise", "Animation": "Animation", "Box": "Box"}
+VERSION = 1  # bump when the groups' layout changes; older groups are rebuilt
+
+
+def has_interface_panels() -> bool:
+    return bpy.app.version >= (4, 0, 0)
+
+
+def group_parameters(group_name: str) -> list:
+    """Declared parameters exposed as sockets of the group (the curve is a node, not a socket)."""
+    return [p for p in bridge.parameters()
+            if GROUP_OF.get(p["group"]) == group_name and p["kind"] != "curve"]
+
+
+def socket_kind(p: dict):
+    """(socket type, subtype) for a declaration."""
+    if p["kind"] == "int":
+        return "NodeSocketInt", "NONE"
+    if p["kind"] == "vector":
+        return "NodeSocketVector", "NONE"
+    if p["soft_min"] >= 0.0 and p["soft_max"] == 1.0:  # 0–1 sliders (Cloud Scale: 0.05–1)
+        return "NodeSocketFloat", "FACTOR"
+    return "NodeSocketFloat", "NONE"
+
+
+def _new_socket(ng, name, in_out, socket_type, subtype="NONE", parent=None):
+    if has_interface_panels():
+        kw = {"parent": parent} if parent is not None else {}
+        sock = ng.interface.new_socket(name, in_out=in_out, socket_type=socket_type, **kw)
+        if subtype != "NONE":
+            sock.subtype = subtype
+        return sock
+    idname = socket_type + ("Factor" if subtype == "FACTOR" else "")
+    return (ng.inputs if in_out == "INPUT" else ng.outputs).new(idname, name)
+
+
+def _declared_socket(ng, p, parent=None):
+    socket_type, subtype = socket_kind(p)
+    sock = _new_socket(ng, p["label"], "INPUT", socket_type, subtype, parent)
+    sock.min_value = p["soft_min"]
+    sock.max_value = p["soft_max"]
+    d = p["default"]
+    sock.default_value = tuple(d) if isinstance(d, (list, tuple)) else d
+    sock.description = p["help"][:255]
+    return sock
+
+
+def _interface(ng, params, extra_inputs=(), outputs=()):
+    """Outputs first, extra inputs, then the declared ones (in 4.x grouped in panels by
+    declaration group: root sockets must come before panels)."""
+    for name in outputs:
+        _new_socket(ng, name, "OUTPUT", "NodeSocketFloat")
+    for name, socket_type, subtype, lo, hi, default, help_text in extra_inputs:
+        s = _new_socket(ng, name, "INPUT", socket_type, subtype)
+        s.min_value, s.max_value, s.default_value, s.description = lo, hi, default, help_text
+    panels = {}
+    for p in params:
+        parent = None
+        if has_interface_panels():
+            title = PANEL_OF[p["group"]]
+            if title not in panels:
+                panels[title] = ng.interface.new_panel(title)
+            parent = panels[title]
+        _declared_socket(ng, p, parent)
+
+
+def _script(nt, shader):
+    """A Script node holding the shader as internal text; compiled when this Blender has OSL."""
+    if blender_nodes.osl_available():
+        node = blender_nodes.script_node(nt, shader, "INTERNAL")
+    else:  # e.g. Debian's 3.4: the text is stored, the node has no sockets, the group outputs 0
+        text = bpy.data.texts.get(f"{shader}.osl") or bpy.data.texts.new(f"{shader}.osl")
+        text.clear()
+        text.write(blender_nodes.flatten.shader_source(shader))
+        node = nt.nodes.new("ShaderNodeScript")
+        node.mode = "INTERNAL"
+        node.script = text
+        node.label = shader.replace("_", " ").title()
+    node.name = shader
+    return node
+
+
+def _io_nodes(ng):
+    gi = ng.nodes.new("NodeGroupInput")
+    go = ng.nodes.new("NodeGroupOutput")
+    tc = ng.nodes.new("ShaderNodeTexCoord")
+    gi.location, go.location, tc.location = (-600, 0), (600, 0), (-600, 300)
+    return gi, go, tc
+
+
+def _link_params(ng, gi, node, params):
+    for p in params:
+        osl_name = blender_nodes.OSL_SOCKET_NAME.get(p["name"], p["name"])
+        if osl_name in node.inputs:
+            ng.links.new(gi.outputs[p["label"]], node.inputs[osl_name])
+
+
+def build_noise_group(name=NOISE_GROUP):
+    params = group_parameters(NOISE_GROUP)
+    ng = bpy.data.node_groups.new(name, "ShaderNodeTree")
+    _interface(ng, params, outputs=("Noise",))
+    gi, go, tc = _io_nodes(ng)
+    noise = _script(ng, "cloud_noise")
+    if "Generated" in noise.inputs:
+        ng.links.new(tc.outputs["Generated"], noise.inputs["Generated"])
+        _link_params(ng, gi, noise, params)
+        ng.links.new(noise.outputs["Noise"], go.inputs["Noise"])
+    ng["cloudgen_version"] = VERSION
+    return ng
+
+
+def build_main_group(shape_curve, name=MAIN_GROUP):
+    params = group_parameters(MAIN_GROUP)
+    ng = bpy.data.node_groups.new(name, "ShaderNodeTree")
+    extra = [(DISTORTION_NOISE, "NodeSocketFloat", "FACTOR", 0.0, 1.0, 0.5,
+              "The distortion texture in [0, 1] (Cloud Noise's output, or any texture); 0.5 is neutral")]
+    _interface(ng, params, extra_inputs=extra, outputs=("Density",))
+    gi, go, tc = _io_nodes(ng)
+    main = _script(ng, "cloud_main")
+    height = _script(ng, "cloud_height")
+    curve = blender_nodes.shape_curve_node(ng, shape_curve)
+    curve.name = curve.label = CURVE_NODE
+    height.location, curve.location, main.location = (-300, 300), (0, 300), (300, 0)
+    if "Generated" in main.inputs:
+        for node in (main, height):
+            ng.links.new(tc.outputs["Generated"], node.inputs["Generated"])
+            _link_params(ng, gi, node, params)
+        ng.links.new(gi.outputs[DISTORTION_NOISE], main.inputs["distortion_noise"])
+        ng.links.new(height.outputs["Height"], curve.inputs["Value"])
+        ng.links.new(curve.outputs["Value"], main.inputs["shape_gradient"])
+        ng.links.new(main.outputs["Density"], go.inputs["Density"])
+    ng["cloudgen_version"] = VERSION
+    return ng
+
+
+def noise_group():
+    """The shared Cloud Noise group (built on first use, rebuilt if from another layout version)."""
+    ng = bpy.data.node_groups.get(NOISE_GROUP)
+    if ng is not None and ng.get("cloudgen_version") == VERSION:
+        return ng
+    if ng is not None:
+        ng.name = NOISE_GROUP + " (old)"
+    return build_noise_group()
+
+
+def shape_curve_samples(group) -> list:
+    """The Shape Gradient curve of a Cloud Main group at the 17 heights 0, 1/16, ..., 1:
+    what the core gets as shape_curve (it interpolates them linearly, as the
+    Float Curve with vector handles does)."""
+    node = group.nodes[CURVE_NODE]
+    mapping = node.mapping
+    mapping.initialize()
+    curve = mapping.curves[0]
+    n = blender_nodes.CURVE_POINTS
+    at = {round(p.location[0] * (n - 1), 4): p.location[1] for p in curve.points}
+    out = []
+    for i in range(n):
+        # a control point at the height: its value exactly (evaluate() goes through a
+        # 256-entry table and returns e.g. -2e-7 for a 0); elsewhere the curve's value
+        v = float(at[i]) if float(i) in at else float(mapping.evaluate(curve, i / (n - 1)))
+        out.append(min(max(v, 0.0), 1.0) if -1e-5 < v < 1.0 + 1e-5 else v)
+    return out
+
+
+def group_sockets(group):
+    """Interface input sockets of a group (4.x interface items or 3.x group inputs)."""
+    if has_interface_panels():
+        return [it for it in group.interface.items_tree
+                if it.item_type == "SOCKET" and it.in_out == "INPUT"]
+    return list(group.inputs)
+
+
+def set_node_values(node, values: dict, params):
+    for p in params:
+        if p["name"] in values and p["label"] in node.inputs:
+            v = values[p["name"]]
+            node.inputs[p["label"]].default_value = tuple(v) if isinstance(v, (list, tuple)) else v
+
+
+def _driver(id_data, path, index, kind, target, data_path=None, transform=None):
+    fc = id_data.driver_add(path, index) if index is not None else id_data.driver_add(path)
+    drv = fc.driver
+    drv.type = "AVERAGE"
+    var = drv.variables.new()
+    var.name = "v"
+    if kind == "TRANSFORMS":
+        var.type = "TRANSFORMS"
+        var.targets[0].id = target
+        var.targets[0].transform_type = transform
+        var.targets[0].transform_space = "WORLD_SPACE"
+    else:
+        var.type = "SINGLE_PROP"
+        var.targets[0].id_type = "OBJECT"
+        var.targets[0].id = target
+        var.targets[0].data_path = data_path
+    return fc
+
+
+def drive_box_inputs(material, obj):
+    """Box Size follows the object's dimensions, Object Location its world location
+    (plain AVERAGE drivers: no Python expression, so they run without auto-exec)."""
+    noise = material.node_tree.nodes[NOISE_GROUP]
+    for label, kind in (("Box Size", "SINGLE_PROP"), ("Object Location", "TRANSFORMS")):
+        path = noise.inputs[label].path_from_id("default_value")
+        for i in range(3):
+            _driver(material.node_tree, path, i, kind, obj, data_path=f"dimensions[{i}]",
+                    transform=("LOC_X", "LOC_Y", "LOC_Z")[i])
+
+
+def set_time_from_frame(material, enable: bool):
+    """Time = frame / fps (a simple-expression driver: no Python needed), or a free,
+    keyframable value again."""
+    nt = material.node_tree
+    path = nt.nodes[NOISE_GROUP].inputs["Time"].path_from_id("default_value")
+    nt.driver_remove(path)
+    if not enable:
+        return
+    fc = nt.driver_add(path)
+    drv = fc.driver
+    drv.type = "SCRIPTED"
+    for name, prop in (("fps", "render.fps"), ("fps_base", "render.fps_base")):
+        var = drv.variables.new()
+        var.name = name
+        var.type = "SINGLE_PROP"
+        var.targets[0].id_type = "SCENE"
+        var.targets[0].id = bpy.context.scene
+        var.targets[0].data_path = prop
+    drv.expression = "frame * fps_base / fps"
+
+
+def time_follows_frame(material) -> bool:
+    nt = material.node_tree
+    ad = nt.animation_data
+    if ad is None or NOISE_GROUP not in nt.nodes:
+        return False
+    path = nt.nodes[NOISE_GROUP].inputs["Time"].path_from_id("default_value")
+    return any(fc.data_path == path for fc in ad.drivers)
+
+
+def build_material(name, values: dict, look: dict, obj):
+    """The cloud material: Cloud Noise → Cloud Main (Distortion Noise) → volume shader.
+    Node names: "Cloud Noise", "Cloud Main" (group nodes), "Cloud Volume",
+    "Material Output"."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    noise = nt.nodes.new("ShaderNodeGroup")
+    noise.node_tree = noise_group()
+    main = nt.nodes.new("ShaderNodeGroup")
+    main.node_tree = build_main_group(values["shape_curve"])
+    noise.name, main.name = NOISE_GROUP, MAIN_GROUP
+    noise.location, main.location = (-400, 0), (-150, 0)
+    set_node_values(noise, values, group_parameters(NOISE_GROUP))
+    set_node_values(main, values, group_parameters(MAIN_GROUP))
+    nt.links.new(noise.outputs["Noise"], main.inputs[DISTORTION_NOISE])
+    volume = volume_shader(nt, look)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    out.name = "Material Output"
+    volume.location, out.location = (100, 0), (350, 0)
+    nt.links.new(main.outputs["Density"], volume.inputs["Density"])
+    nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
+    mat.cycles.volume_step_rate = float(look.get("step_rate", 0.2))
+    drive_box_inputs(mat, obj)
+    return mat
+
+
+def mie_available() -> bool:
+    rna = bpy.types.ShaderNodeVolumeScatter.bl_rna.properties
+    return "phase" in rna and "MIE" in {i.identifier for i in rna["phase"].enum_items}
+
+
+def volume_shader(nt, look: dict):
+    """Volume Scatter with the Mie phase where Cycles has it (4.3+: cloud droplets),
+    else Principled Volume (Henyey–Greenstein with the preset's anisotropy)."""
+    color = tuple(look.get("color", (1.0, 1.0, 1.0)))[:3] + (1.0,)
+    if mie_available():
+        node = nt.nodes.new("ShaderNodeVolumeScatter")
+        node.phase = "MIE"
+        node.inputs["Diameter"].default_value = float(look.get("droplet_diameter", 20.0))
+    else:
+        node = nt.nodes.new("ShaderNodeVolumePrincipled")
+        node.inputs["Anisotropy"].default_value = float(look.get("anisotropy", 0.3))
+    node.inputs["Color"].default_value = color
+    node.name = "Cloud Volume"
+    return node

@@ -1,0 +1,145 @@
+"""Operators: Add Cloud, Refresh Preview, Render Settings, Time from Frame.
+All of them work in background mode (no window, area or region needed)."""
+import bpy
+
+from . import blender_nodes, bridge, cloud_object, nodes, preview, props
+
+
+def osl_problem(context):
+    """None when the procedural (OSL) cloud can render with the scene's settings,
+    else one line saying why not."""
+    if not blender_nodes.osl_available():
+        return "this Blender build has no Open Shading Language"
+    scene = context.scene
+    if scene.render.engine != "CYCLES":
+        engine = {"BLENDER_EEVEE": "Eevee", "BLENDER_EEVEE_NEXT": "Eevee",
+                  "BLENDER_WORKBENCH": "Workbench"}.get(scene.render.engine, scene.render.engine)
+        return f"the render engine is {engine}; OSL runs in Cycles only"
+    if not scene.cycles.shading_system:
+        return "Open Shading Language is off in the render settings"
+    if scene.cycles.device == "GPU":
+        prefs = context.preferences.addons.get("cycles")
+        kind = getattr(prefs.preferences, "compute_device_type", "NONE") if prefs else "NONE"
+        if kind != "OPTIX":
+            return f"GPU rendering with {kind}: OSL needs the CPU or OptiX"
+    return None
+
+
+class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
+    """Add a cloud: a box with the Cloud Main / Cloud Noise volume material"""
+    bl_idname = "cloudgen.add_cloud"
+    bl_label = "Add Cloud"
+    bl_options = {"REGISTER", "UNDO"}
+
+    cloud_type: bpy.props.EnumProperty(name="Cloud Type", items=props.cloud_type_items)
+
+    def execute(self, context):
+        if bridge.error():
+            self.report({"ERROR"}, f"Add Cloud: {bridge.error()}")
+            return {"CANCELLED"}
+        try:
+            obj = cloud_object.create_cloud(context, self.cloud_type)
+        except (RuntimeError, KeyError, ValueError) as exc:
+            self.report({"ERROR"}, f"Add Cloud: {exc}")
+            return {"CANCELLED"}
+        preview.refresh(context, obj)
+        problem = osl_problem(context)
+        if problem:
+            self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "
+                                     "— render its baked VDB instead")
+        return {"FINISHED"}
+
+
+class CLOUDGEN_OT_refresh_preview(bpy.types.Operator):
+    """Recompute the cross-section preview of the active cloud"""
+    bl_idname = "cloudgen.refresh_preview"
+    bl_label = "Refresh Preview"
+
+    def execute(self, context):
+        if not preview.refresh(context):
+            self.report({"ERROR"}, preview.state.error)
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+class CLOUDGEN_OT_render_settings(bpy.types.Operator):
+    """Render settings that suit clouds: Cycles, OSL on the CPU (for the procedural
+    cloud), volume step rate and bounces"""
+    bl_idname = "cloudgen.render_settings"
+    bl_label = "Cloud Render Settings"
+    bl_options = {"REGISTER", "UNDO"}
+
+    procedural: bpy.props.BoolProperty(
+        name="Procedural (OSL)", default=True,
+        description="Render the clouds' OSL shaders (CPU); off for baked VDBs (any device)")
+    denoise: bpy.props.BoolProperty(name="Denoise", default=True,
+                                    description="Denoise final renders")
+    volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=8, min=0, max=128,
+                                          description="Multiple scattering makes clouds bright")
+    step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.2, min=0.01, max=10.0,
+                                       description="Volume step rate of the cloud materials "
+                                                   "(smaller: finer detail, slower)")
+
+    def execute(self, context):
+        scene = context.scene
+        scene.render.engine = "CYCLES"
+        c = scene.cycles
+        if self.procedural:
+            c.device = "CPU"
+            c.shading_system = True
+        c.use_denoising = self.denoise
+        c.volume_bounces = self.volume_bounces
+        c.max_bounces = max(c.max_bounces, self.volume_bounces)
+        c.transparent_max_bounces = max(c.transparent_max_bounces, 16)
+        for attr, value in (("volume_step_rate", 1.0), ("volume_max_steps", 1024)):
+            if hasattr(c, attr):  # Blender 5 renders volumes without ray-marching steps
+                setattr(c, attr, value)
+        for mat in {cloud_object.cloud_material(o) for o in scene.objects if cloud_object.is_cloud(o)}:
+            if mat is not None and hasattr(mat.cycles, "volume_step_rate"):
+                mat.cycles.volume_step_rate = self.step_rate
+        problem = osl_problem(context) if self.procedural else None
+        if problem:
+            self.report({"WARNING"}, f"Procedural clouds will not render: {problem} — use baked VDBs")
+        return {"FINISHED"}
+
+
+class CLOUDGEN_OT_time_from_frame(bpy.types.Operator):
+    """Let the cloud's Time follow the scene frame (frame / fps), or free it again"""
+    bl_idname = "cloudgen.time_from_frame"
+    bl_label = "Time from Frame"
+    bl_options = {"REGISTER", "UNDO"}
+
+    enable: bpy.props.BoolProperty(name="Follow Frame", default=True)
+
+    def execute(self, context):
+        mat = cloud_object.cloud_material(context.view_layer.objects.active)
+        if mat is None:
+            self.report({"ERROR"}, "Time from Frame: the active object is not a cloud")
+            return {"CANCELLED"}
+        nodes.set_time_from_frame(mat, self.enable)
+        return {"FINISHED"}
+
+
+def menu_add(self, context):
+    self.layout.operator_menu_enum(CLOUDGEN_OT_add_cloud.bl_idname, "cloud_type",
+                                   text="Cloud", icon="OUTLINER_OB_VOLUME")
+
+
+MENUS = ("VIEW3D_MT_volume_add", "VIEW3D_MT_mesh_add")
+
+classes = (CLOUDGEN_OT_add_cloud, CLOUDGEN_OT_refresh_preview, CLOUDGEN_OT_render_settings,
+           CLOUDGEN_OT_time_from_frame)
+
+
+def on_register():
+    for name in MENUS:
+        menu = getattr(bpy.types, name, None)
+        if menu is not None:
+            menu.append(menu_add)
+
+
+def on_unregister():
+    for name in MENUS:
+        menu = getattr(bpy.types, name, None)
+        if menu is not None:
+            menu.remove(menu_add)

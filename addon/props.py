@@ -1,0 +1,51 @@
+"""Scene settings of the add-on: scene.cloudgen (cloud type to add, preview options)."""
+import bpy
+
+from . import bridge
+
+_type_items = []  # Blender needs the enum strings kept alive (dynamic items)
+
+
+def cloud_type_items(self, context):
+    global _type_items
+    presets = bridge.presets()
+    _type_items = [(name, name.replace("_", " ").title(), str(p.get("description", "")))
+                   for name, p in presets.items()] or [("NONE", "No cloud types", bridge.error() or "")]
+    return _type_items
+
+
+def _preview_changed(self, context):
+    from . import preview  # noqa: PLC0415
+
+    if self.preview_live and bridge.native() is not None:
+        preview.refresh(context)
+
+
+class CloudgenSceneSettings(bpy.types.PropertyGroup):
+    cloud_type: bpy.props.EnumProperty(name="Cloud Type", items=cloud_type_items,
+                                       description="Type of cloud Add Cloud creates")
+    preview_axis: bpy.props.EnumProperty(
+        name="Axis", default="Y", update=_preview_changed,
+        items=[("X", "X", "Cut perpendicular to X (looking along X)"),
+               ("Y", "Y", "Cut perpendicular to Y (front view)"),
+               ("Z", "Z", "Cut perpendicular to Z (top view)")])
+    preview_offset: bpy.props.FloatProperty(
+        name="Offset", min=0.0, max=1.0, default=0.5, subtype="FACTOR", update=_preview_changed,
+        description="Position of the cut through the box (0 one face, 1 the opposite one)")
+    preview_width: bpy.props.IntProperty(name="Resolution", min=16, max=512, default=128,
+                                         update=_preview_changed,
+                                         description="Width of the preview in pixels")
+    preview_live: bpy.props.BoolProperty(name="Live", default=True,
+                                         description="Update the preview when parameters change")
+
+
+classes = (CloudgenSceneSettings,)
+
+
+def on_register():
+    bpy.types.Scene.cloudgen = bpy.props.PointerProperty(type=CloudgenSceneSettings)
+
+
+def on_unregister():
+    if hasattr(bpy.types.Scene, "cloudgen"):
+        del bpy.types.Scene.cloudgen
