@@ -1,6 +1,10 @@
 // io/vdb_io.cpp — the only translation unit that includes OpenVDB.
 #include "io/vdb_io.h"
 
+#include <fstream>
+#include <cerrno>
+#include <cstring>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/io/Compression.h>
 #include <openvdb/tools/Count.h>
@@ -106,14 +110,21 @@ void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWri
     grid->insertMeta("cloudgen_lod_perlin_octaves", openvdb::FloatMetadata(bake.stats.lod_perlin_octaves));
     grid->setSaveFloatAsHalf(o.half);
 
-    openvdb::io::File file(path);
+    // Written through our own stream: openvdb::io::File does not report failed
+    // writes (a full disk gave exit 0 and a truncated file), the stream state does.
+    std::ofstream os(path, std::ios::binary | std::ios::trunc);
+    if (!os) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
     std::uint32_t compression = openvdb::io::COMPRESS_ACTIVE_MASK;
     if (openvdb::io::Archive::hasBloscCompression()) compression |= openvdb::io::COMPRESS_BLOSC;
-    file.setCompression(compression);
+    openvdb::io::Stream stream(os);
+    stream.setCompression(compression);
     openvdb::GridPtrVec grids{grid};
-    file.write(grids);
-    file.close();
-    if (file_size(path) <= 0) throw IoError("cannot write '" + path + "': nothing was written");
+    stream.write(grids);
+    os.flush();
+    const std::streamoff written = os.good() ? std::streamoff(os.tellp()) : -1;
+    os.close();
+    if (written <= 0 || os.fail() || file_size(path) != written)
+      throw IoError("cannot write '" + path + "': the write failed (disk full?)");
   });
 }
 

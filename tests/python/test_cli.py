@@ -370,3 +370,20 @@ def test_cancel_leaves_nothing(sig, out_dir):
     assert proc.returncode == 130, (proc.returncode, stderr)
     assert stderr.strip().startswith("cloudgen: error: cancelled")
     assert listing(out_dir) == [], "a cancelled bake must leave no file and no temporary"
+
+
+def test_full_disk_fails_and_leaves_nothing(tmp_path):
+    # A full disk, simulated by a 4 KiB file-size limit with SIGXFSZ ignored (writes then
+    # fail with EFBIG as they fail with ENOSPC on a full disk). Exact: exit 1, no file at all.
+    import resource
+
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+
+    out = tmp_path / "big.vdb"
+    r = subprocess.run([CLOUDGEN, "bake", "--preset", "cumulus", "--resolution", "64", "--output", str(out),
+                        "--quiet"], capture_output=True, text=True, preexec_fn=limit)
+    assert r.returncode == 1, (r.returncode, r.stdout, r.stderr)
+    assert "disk full" in r.stderr, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == [], list(tmp_path.iterdir())
