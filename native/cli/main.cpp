@@ -39,6 +39,9 @@ void install_signal_handlers() {
   sa.sa_flags = SA_RESTART;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // Past a file-size limit, let write() fail with EFBIG (reported, temporaries
+  // removed) instead of being killed with the temporary file left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 }  // namespace
 
