@@ -87,7 +87,7 @@ class CLOUDGEN_PT_cloud_main(_ParamPanel, bpy.types.Panel):
     group = "Cloud Main"
 
     def draw(self, context):
-        super().draw(context)
+        _ParamPanel.draw(self, context)
         main, _ = cloud_object.cloud_nodes(_active_cloud(context))
         curve = main.node_tree.nodes.get(nodes.CURVE_NODE)
         if curve is not None:
@@ -107,7 +107,7 @@ class CLOUDGEN_PT_animation(_ParamPanel, bpy.types.Panel):
     group = "Animation"
 
     def draw(self, context):
-        super().draw(context)
+        _ParamPanel.draw(self, context)
         mat = cloud_object.cloud_material(_active_cloud(context))
         follows = nodes.time_follows_frame(mat)
         op = self.layout.operator(operators.CLOUDGEN_OT_time_from_frame.bl_idname,
