@@ -14,11 +14,11 @@ bl_info = {
     "category": "Add Mesh",
 }
 
-from . import bridge, operators, preview, props, ui  # noqa: E402
+from . import bake, bridge, operators, preview, props, ui  # noqa: E402
 
 # Each module has `classes` (registered in order) and may have on_register /
 # on_unregister. Adding a module (e.g. bake) is one entry here.
-_modules = (props, operators, preview, ui)
+_modules = (props, operators, preview, ui, bake)  # bake after ui: its panel's parent is CLOUDGEN_PT_main
 
 _registered = []
 

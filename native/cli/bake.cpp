@@ -213,7 +213,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     wo.preset = preset;
     wo.time = job.time;
     wo.resolution = opts.resolution;
-    cgio::write_vdb(file.temp_path(), result, wo);
+    file.write_with([&](const std::string& tmp) { cgio::write_vdb(tmp, result, wo); });
     if (cancel_requested()) throw cg::Cancelled();
     file.commit();
     std::printf("wrote %s (%lld active voxels of %dx%dx%d, %.2f MiB, %.2f s)\n", job.path.c_str(),
@@ -273,7 +273,7 @@ int cmd_preview(const std::vector<std::string>& argv) {
   meta.params_json = cg::params_to_json(params);
   meta.axis = axis[0];
   meta.offset = s.offset;
-  cgio::write_slice(file.temp_path(), *format, values, s.width, s.height, meta);
+  file.write_with([&](const std::string& tmp) { cgio::write_slice(tmp, *format, values, s.width, s.height, meta); });
   if (cancel_requested()) throw cg::Cancelled();
   file.commit();
   const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());

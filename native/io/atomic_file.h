@@ -40,6 +40,19 @@ class AtomicFile {
   const std::string& path() const { return final_; }
   const std::string& temp_path() const { return temp_; }
 
+  // Runs write(temp_path()); an IoError it throws is rethrown naming path()
+  // where it named the temporary, so messages show the file the user asked for.
+  template <class Write>
+  void write_with(Write&& write) {
+    try {
+      write(temp_);
+    } catch (const IoError& e) {
+      std::string message = e.what();
+      for (std::size_t at; (at = message.find(temp_)) != std::string::npos;) message.replace(at, temp_.size(), final_);
+      throw IoError(message);
+    }
+  }
+
   // Flushes the temporary to disk and renames it to path(). Throws IoError
   // (the temporary is removed) when it is missing or the rename fails.
   void commit();
