@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The second environment: Blender 5.0 as a Python module (bpy 5.0.x, Python 3.11)
 # in .venv-blender5, running the same Blender tests (OSL shaders, parity,
-# reference render against ref_blender5.png). CI does not run this; run it by
+# reference render against ref_blender5.png) and the add-on tests (node groups,
+# Add Cloud, preview, bake). CI does not run this; run it by
 # hand after changing the model or the shaders. Needs scripts/setup.sh first
 # (it uses build/python's cloudgen_native, the same abi3 module).
 set -euo pipefail
@@ -18,4 +19,4 @@ site=$(.venv-blender5/bin/python -c 'import sysconfig; print(sysconfig.get_paths
 echo "$root/build/python" > "$site/cloudgen_native_build.pth"
 bundled=$(ls -d "$site"/bpy/*/python/lib/python3.*/site-packages 2>/dev/null | head -n 1 || true)
 [[ -n "$bundled" ]] && echo "$bundled" > "$site/cloudgen_bpy_oslquery.pth"
-CLOUDGEN_REQUIRE_BPY=1 .venv-blender5/bin/python -m pytest -q "$@" tests/blender
+CLOUDGEN_REQUIRE_BPY=1 .venv-blender5/bin/python -m pytest -q "$@" tests/blender tests/addon tests/addon_bake

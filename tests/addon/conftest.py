@@ -6,7 +6,6 @@ hangs at exit while an operator class is registered (NOTES.md).
 
 Without bpy the directory is skipped, unless CLOUDGEN_REQUIRE_BPY=1.
 """
-import os
 import pathlib
 import subprocess
 import sys
@@ -17,23 +16,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 ADDON_PARENT = ROOT / "build" / "addon"
 PACKAGE = ADDON_PARENT / "cloudgen"
 
-try:
-    import bpy  # noqa: F401
-    HAVE_BPY = True
-except ImportError:
-    HAVE_BPY = False
-
-
-def pytest_collection_modifyitems(config, items):
-    if HAVE_BPY:
-        return
-    if os.environ.get("CLOUDGEN_REQUIRE_BPY") == "1":
-        raise pytest.UsageError("CLOUDGEN_REQUIRE_BPY=1 but `import bpy` failed: run scripts/setup.sh")
-    skip = pytest.mark.skip(reason="bpy (Blender as a Python module) is not installed")
-    here = pathlib.Path(__file__).parent
-    for item in items:
-        if pathlib.Path(str(item.fspath)).is_relative_to(here):
-            item.add_marker(skip)
 
 
 def _package_is_stale():

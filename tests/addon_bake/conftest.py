@@ -3,7 +3,6 @@ bpy wheel (Blender 4.5 in .venv) against the packaged add-on build/addon/cloudge
 (repackaged when addon/ or osl/ is newer), and are skipped without bpy unless
 CLOUDGEN_REQUIRE_BPY=1. Every class registered here is unregistered in teardown
 (the 4.5 wheel hangs at exit while an operator class is registered)."""
-import os
 import pathlib
 import subprocess
 import sys
@@ -15,23 +14,6 @@ ADDON_PARENT = ROOT / "build" / "addon"
 PACKAGE = ADDON_PARENT / "cloudgen"
 HERE = pathlib.Path(__file__).parent
 
-try:
-    import bpy  # noqa: F401
-    HAVE_BPY = True
-except ImportError:
-    HAVE_BPY = False
-
-
-def pytest_collection_modifyitems(config, items):
-    if HAVE_BPY:
-        return
-    if os.environ.get("CLOUDGEN_REQUIRE_BPY") == "1":
-        raise pytest.UsageError("CLOUDGEN_REQUIRE_BPY=1 but `import bpy` failed: run scripts/setup.sh")
-    skip = pytest.mark.skip(reason="bpy (Blender as a Python module) is not installed")
-    for item in items:
-        path = pathlib.Path(str(item.fspath))
-        if path.is_relative_to(HERE) and path.name != "test_bake_process.py":
-            item.add_marker(skip)
 
 
 def _package_is_stale():

@@ -4,7 +4,6 @@
 Without bpy the whole directory is skipped — unless CLOUDGEN_REQUIRE_BPY=1
 (scripts/test.sh sets it), in which case a missing bpy is an error.
 """
-import os
 import pathlib
 import sys
 
@@ -12,23 +11,6 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "osl"))
-
-try:
-    import bpy  # noqa: F401  (one import per process: every Blender test shares it)
-    HAVE_BPY = True
-except ImportError:
-    HAVE_BPY = False
-
-
-def pytest_collection_modifyitems(config, items):
-    if HAVE_BPY:
-        return
-    if os.environ.get("CLOUDGEN_REQUIRE_BPY") == "1":
-        raise pytest.UsageError("CLOUDGEN_REQUIRE_BPY=1 but `import bpy` failed: run scripts/setup.sh")
-    skip = pytest.mark.skip(reason="bpy (Blender as a Python module) is not installed")
-    for item in items:
-        if pathlib.Path(str(item.fspath)).is_relative_to(pathlib.Path(__file__).parent):
-            item.add_marker(skip)
 
 
 @pytest.fixture
