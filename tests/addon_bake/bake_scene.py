@@ -1,6 +1,6 @@
 """Scene helpers for the bake tests inside bpy: a small Cycles CPU scene, a camera
 that frames a cloud from -Y, a sun and a black world, render to numpy."""
-import math
+from scene_helpers import frame_cloud  # noqa: F401  (re-exported)
 
 
 def small_scene(width=48, height=36, samples=4, seed=1, osl=True):
@@ -20,30 +20,6 @@ def small_scene(width=48, height=36, samples=4, seed=1, osl=True):
     sc.render.resolution_percentage = 100
     sc.view_settings.view_transform = "Standard"
     return sc
-
-
-def frame_cloud(scene, obj):
-    import bpy
-
-    bx, by, bz = obj.dimensions
-    aspect = scene.render.resolution_x / scene.render.resolution_y
-    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    cam.data.lens = 50.0
-    half_fov = math.atan(18.0 / 50.0)
-    distance = 0.5 * max(bx, bz * aspect) / 0.7 / math.tan(half_fov) + by / 2
-    c = obj.matrix_world.translation
-    cam.location = (c[0], c[1] - distance, c[2])
-    cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    sun.data.energy = 5.0
-    sun.rotation_euler = (math.radians(40), 0.0, math.radians(-35))
-    scene.collection.objects.link(sun)
-    world = bpy.data.worlds.new("Black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    scene.world = world
 
 
 def render_rgb(scene, path):
