@@ -4,17 +4,18 @@ tests/addon_bake): a camera that frames a cloud from -Y, a sun, a black world
 import math
 
 
-def frame_cloud(scene, obj):
-    """Camera on -Y looking at the box's centre (the box fills ~70 % of the frame
+def frame_cloud(scene, obj, fill=0.7):
+    """Camera on -Y looking at the box's centre (the box fills `fill` of the frame
     at the scene's aspect), a sun, a black world."""
     import bpy
 
+    bpy.context.view_layer.update()  # matrix_world of a just-created object
     bx, by, bz = obj.dimensions
     aspect = scene.render.resolution_x / scene.render.resolution_y
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     cam.data.lens = 50.0
     half_fov = math.atan(18.0 / 50.0)
-    distance = 0.5 * max(bx, bz * aspect) / 0.7 / math.tan(half_fov) + by / 2
+    distance = 0.5 * max(bx, bz * aspect) / fill / math.tan(half_fov) + by / 2
     c = obj.matrix_world.translation
     cam.location = (c[0], c[1] - distance, c[2])
     cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)

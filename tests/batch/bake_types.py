@@ -10,7 +10,7 @@ OUT_DIR/TYPE.png. With --farm the last scene keeps frames 1-2 baked as a
 sequence and is saved for the farm command line. Prints one line per type:
 `BATCH-RESULT {json}`. Any exception fails Blender's exit code."""
 import json
-import math
+import pathlib
 import sys
 
 import addon_utils
@@ -22,6 +22,9 @@ out_dir, types, farm = argv[0], argv[1].split(","), "--farm" in argv
 mod = addon_utils.enable("cloudgen", default_set=True, handle_error=lambda exc: (_ for _ in ()).throw(exc))
 assert mod is not None, "cannot enable the cloudgen add-on"
 from cloudgen import bake, cloud_object  # noqa: E402
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from scene_helpers import frame_cloud  # noqa: E402
 
 own = [c for c in bake.classes if not getattr(c, "is_registered", False)]
 for c in own:
@@ -43,26 +46,10 @@ def scene_for(name):
     return sc
 
 
-def camera_and_sun(sc, cloud):
-    bx, by, bz = cloud.dimensions
-    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    half_fov = math.atan(18.0 / cam.data.lens)
-    distance = 0.5 * max(bx, bz * 32 / 24) / 0.8 / math.tan(half_fov) + by / 2
-    c = cloud.location
-    cam.location = (c[0], c[1] - distance, c[2])
-    cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    sun.data.energy = 5.0
-    sun.rotation_euler = (math.radians(40), 0.0, math.radians(-35))
-    sc.collection.objects.link(sun)
-
-
 for i, kind in enumerate(types):
     sc = scene_for(kind)
     cloud = cloud_object.create_cloud(bpy.context, kind)
-    camera_and_sun(sc, cloud)
+    frame_cloud(sc, cloud, fill=0.8)
     sequence = farm and i == len(types) - 1
     assert bpy.ops.cloudgen.bake_vdb(resolution=24, sequence=sequence) == {"FINISHED"}
     vdb = bake.baked_object(cloud)

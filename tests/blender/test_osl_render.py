@@ -18,21 +18,11 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
+from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/conftest.py)
 GOLDEN = ROOT / "tests" / "golden" / "cumulus_osl"
 PIXEL_THRESHOLD = 0.016
 FAIL_FRACTION = 0.01
 RENDER_ARGS = ["--preset", "cumulus", "--size", "128x128", "--samples", "16", "--seed", "7"]
-
-
-def load_rgb(path):
-    import bpy
-
-    img = bpy.data.images.load(str(path), check_existing=False)
-    img.colorspace_settings.name = "Non-Color"  # compare stored values, no transform
-    w, h = img.size
-    px = np.array(img.pixels[:], dtype=np.float32).reshape(h, w, 4)[..., :3]
-    bpy.data.images.remove(img)
-    return px
 
 
 def test_cumulus_reference_render(tmp_path):

@@ -14,6 +14,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
+from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/conftest.py)
 
 TYPES = ["cumulus", "cumulus_congestus", "cumulonimbus", "stratocumulus", "stratus",
          "altocumulus", "cirrus", "cirrostratus"]
@@ -66,17 +67,6 @@ def test_preset_material_keys(name):
         assert 0.01 <= material["step_rate"] <= 100, (name, material)
 
 
-def pixels(path):
-    import bpy
-
-    img = bpy.data.images.load(str(path), check_existing=False)
-    img.colorspace_settings.name = "Non-Color"
-    w, h = img.size
-    px = np.array(img.pixels[:], dtype=np.float32).reshape(h, w, 4)[..., :3]
-    bpy.data.images.remove(img)
-    return px
-
-
 @pytest.fixture(scope="module")
 def sky(tmp_path_factory):
     """The render scene with a zero-density cloud: the sky alone (per-pixel, so
@@ -88,7 +78,7 @@ def sky(tmp_path_factory):
     values = render_cloud.resolve_params(args)
     values["density"] = 0.0
     render_cloud.render(render_cloud.build_scene(values, args), out)
-    return pixels(out)
+    return load_rgb(out)
 
 
 @pytest.mark.parametrize("name", TYPES)
@@ -106,7 +96,7 @@ def test_preset_renders_a_cloud(name, sky, tmp_path):
     assert volume.inputs["Anisotropy"].default_value == pytest.approx(material["anisotropy"])
     assert tuple(volume.inputs["Color"].default_value)[:3] == pytest.approx(tuple(material["color"]))
     render_cloud.render(scene, out)
-    got = pixels(out)
+    got = load_rgb(out)
     # the sky reference is framed for the cumulus; a layer moves the camera, so compare with
     # the sky colour (the world is uniform: every sky pixel has the same value up to noise)
     sky_colour = np.median(sky.reshape(-1, 3), axis=0)
