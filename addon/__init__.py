@@ -14,11 +14,12 @@ bl_info = {
     "category": "Add Mesh",
 }
 
-from . import bake, bridge, operators, preview, props, ui  # noqa: E402
+from . import bake, bridge, operators, preview, props, quality, ui  # noqa: E402
 
 # Each module has `classes` (registered in order) and may have on_register /
 # on_unregister. Adding a module (e.g. bake) is one entry here.
-_modules = (props, operators, preview, ui, bake)  # bake after ui: its panel's parent is CLOUDGEN_PT_main
+# quality and bake after ui: their panels' parent is CLOUDGEN_PT_main
+_modules = (props, operators, preview, ui, quality, bake)
 
 _registered = []
 

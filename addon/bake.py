@@ -13,17 +13,26 @@ the cloud between procedural and baked.
   procedural box from render and shows the Volume object.
 - Cancel, a full disk or an unwritable path leave no partial file and are
   reported with self.report({'ERROR'}, ...).
+- Settings: the scene's Cloud Quality tier (quality.py; `--quality NAME`), with
+  the operator's resolution / no_lod / tolerance / half passed only when set
+  explicitly; Fit to Camera (camera_fit.py, `--camera`); a frame range bakes
+  per-frame parameters with `--sequence ... --update` (sequence.py): only frames
+  whose field changed are baked. Older CLIs without these options get explicit
+  values and `--frames` instead.
 """
 import os
 
 import bpy
 from mathutils import Matrix
 
-from . import bake_process, bridge
+from . import bake_process, bridge, camera_fit, quality, sequence
 
 SOURCE_KEY = "cloudgen_source"
 BAKED_FROM_KEY = "cloudgen_baked_from"
 DEFAULT_DIR = "//cloudgen/"
+
+last_result = None   # the last bake's BakeResult (scripts and tests read counts from it)
+last_report = ""     # and its info line
 
 
 # ---------------------------------------------------------------- parameters
@@ -187,6 +196,18 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
                                      description="Bake the scene's frame range as a VDB sequence")
     no_lod: bpy.props.BoolProperty(name="Full Detail", default=False,
                                    description="Evaluate every noise octave (no level of detail)")
+    tolerance: bpy.props.FloatProperty(name="Tolerance", default=0.0, min=0.0, max=1000.0,
+                                       description="Drop voxels with density at or below this")
+    half: bpy.props.BoolProperty(name="Half Floats", default=False,
+                                 description="Store 16-bit floats (half the file size)")
+    quality: bpy.props.StringProperty(
+        name="Quality", default="",
+        description="Quality tier for the bake settings (empty: the scene's Cloud Quality); "
+                    "resolution, Full Detail, tolerance and half floats given explicitly win")
+    fit_camera: bpy.props.BoolProperty(
+        name="Fit to Camera", default=False,
+        description="Bake what the scene camera sees, voxels the size of a pixel at the "
+                    "nearest visible point (unset: the scene's Fit to Camera checkbox)")
 
     _job = None
     _timer = None
@@ -213,20 +234,58 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
             os.makedirs(parent, exist_ok=True)
         except OSError as exc:
             raise ValueError(f"cannot create the folder {parent!r}: {exc.strerror}") from exc
+        scene = context.scene
         params = cloud_params(cloud)
-        frames, fps = None, 24.0
+        features = bridge.cli_features(exe)
+        resolution, extra = self._settings(scene, features)
+        self._warnings = []
+        camera = None
+        if self._is_set("fit_camera", self.fit_camera, scene.cloudgen.bake_fit_camera):
+            if "--camera" not in features:
+                raise ValueError("Fit to Camera needs a cloudgen command-line tool with --camera "
+                                 "(this one has none): update the add-on")
+            camera = camera_fit.camera_json(scene, scene.camera, cloud, self._warnings)
+        frames, fps, seq = None, 24.0, None
         if self.sequence:
-            first, last, fps = scene_frames(context.scene)
+            first, last, fps = scene_frames(scene)
             frames = (first, last)
-        extra = ("--no-lod",) if self.no_lod else ()
-        job = bake_process.BakeJob(exe, params, self.resolution, output, frames, fps, extra)
+            if "--sequence" in features:
+                seq = sequence.sequence_object(
+                    sequence.frame_params(scene, cloud, first, last, cloud_params), fps)
+                if "--update" in features:
+                    extra.append("--update")
+        job = bake_process.BakeJob(exe, params, resolution, output, frames, fps, extra,
+                                   sequence=seq, camera=camera)
         paths = bake_process.sequence_paths(output, *frames) if frames else [output]
         stored = paths[0]
         if given.startswith("//"):
             stored = bpy.path.relpath(stored)
         return cloud, job, stored, frames
 
+    def _is_set(self, prop, value, fallback):
+        return value if self.properties.is_property_set(prop) else fallback
+
+    def _settings(self, scene, features):
+        """(resolution or None, CLI arguments) from the tier and the explicit overrides."""
+        name, tier = quality.current(scene)
+        if self.quality:
+            tiers = quality.tiers()
+            if self.quality not in tiers and self.quality != quality.CUSTOM:
+                raise ValueError(f"unknown quality tier {self.quality!r}; known: "
+                                 f"{', '.join(tiers) or 'none'}")
+            name, tier = (self.quality, tiers[self.quality]) if self.quality in tiers else (None, None)
+        overrides = {}
+        for prop, key, conv in (("resolution", "resolution", int), ("no_lod", "lod", lambda v: not v),
+                                ("tolerance", "tolerance", float), ("half", "half", bool)):
+            if self.properties.is_property_set(prop):
+                overrides[key] = conv(getattr(self, prop))
+        return quality.bake_arguments(name, (tier or {}).get("bake"), overrides, features)
+
     def _finish(self, context, cloud, result, stored, frames):
+        global last_result, last_report
+        last_result = result
+        for line in getattr(self, "_warnings", ()):
+            self.report({"WARNING"}, f"Bake to VDB: {line}")
         if not result.ok:
             level = {"WARNING"} if result.cancelled else {"ERROR"}
             self.report(level, f"Bake to VDB: {result.message}")
@@ -236,7 +295,9 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
         except (RuntimeError, LookupError, ValueError) as exc:
             self.report({"ERROR"}, f"Bake to VDB: baked, but the Volume object failed: {exc}")
             return {"CANCELLED"}
-        self.report({"INFO"}, f"Bake to VDB: {result.message} → {obj.name}")
+        text = sequence.summary(result, frames) if frames else result.message
+        last_report = f"Bake to VDB: {text} → {obj.name}"
+        self.report({"INFO"}, last_report)
         return {"FINISHED"}
 
     # -- background / scripted: synchronous
@@ -355,6 +416,9 @@ class CLOUDGEN_PT_bake(bpy.types.Panel):
         op.sequence = False
         op = col.operator(CLOUDGEN_OT_bake_vdb.bl_idname, text="Bake Frame Range", icon="SEQUENCE")
         op.sequence = True
+        row = layout.row()
+        row.prop(context.scene.cloudgen, "bake_fit_camera")
+        layout.label(text=quality.bake_summary(context.scene), icon="SETTINGS")
         source = cloud.get(SOURCE_KEY, "PROCEDURAL")
         row = layout.row(align=True)
         for key, label in (("PROCEDURAL", "Procedural"), ("BAKED", "Baked")):

@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 OK, IO_ERROR, BAD_ARGUMENT, CANCELLED = 0, 1, 2, 130
 _PROGRESS = re.compile(r"^bake: (\d+(?:\.\d+)?)%\s*$")
 _WROTE = re.compile(r"^wrote (.+?) \(")
+_COPIED = re.compile(r"^copied (.+?) \(same field as frame (-?\d+)\)")
+_KEPT = re.compile(r"^kept (.+?) \(unchanged\)")
 _KIND = {IO_ERROR: "I/O error", BAD_ARGUMENT: "bad argument", CANCELLED: "cancelled"}
 
 
@@ -40,7 +42,13 @@ _KIND = {IO_ERROR: "I/O error", BAD_ARGUMENT: "bad argument", CANCELLED: "cancel
 class BakeResult:
     code: int
     message: str = ""
-    paths: list = field(default_factory=list)
+    paths: list = field(default_factory=list)    # baked (`wrote`)
+    copied: list = field(default_factory=list)   # (path, frame it repeats) (`copied`)
+    kept: list = field(default_factory=list)     # unchanged outputs left as they were (`kept`)
+
+    def counts(self) -> str:
+        """'3 baked, 2 copied, 0 kept'"""
+        return f"{len(self.paths)} baked, {len(self.copied)} copied, {len(self.kept)} kept"
 
     @property
     def ok(self) -> bool:
@@ -72,10 +80,19 @@ def sequence_paths(output: str, first: int, last: int) -> list:
     return out
 
 
-def bake_command(executable, params_file, resolution, output, frames=None, fps=24.0, extra=()):
-    cmd = [str(executable), "bake", "--params", str(params_file),
-           "--resolution", str(int(resolution)), "--output", str(output)]
-    if frames is not None:
+def bake_command(executable, params_file, resolution, output, frames=None, fps=24.0, extra=(),
+                 sequence_file=None):
+    """The CLI's argument list. resolution None: none given (the --quality tier's);
+    sequence_file: per-frame parameters (--sequence) instead of --params/--frames."""
+    cmd = [str(executable), "bake"]
+    if sequence_file is not None:
+        cmd += ["--sequence", str(sequence_file)]
+    else:
+        cmd += ["--params", str(params_file)]
+    if resolution is not None:
+        cmd += ["--resolution", str(int(resolution))]
+    cmd += ["--output", str(output)]
+    if frames is not None and sequence_file is None:
         a, b = frames
         cmd += ["--frames", f"{int(a)}-{int(b)}", "--fps", repr(float(fps))]
     return cmd + [str(x) for x in extra]
@@ -84,14 +101,19 @@ def bake_command(executable, params_file, resolution, output, frames=None, fps=2
 class BakeJob:
     """One `cloudgen bake` run. Thread-safe reads of progress/lines; poll() never blocks."""
 
-    def __init__(self, executable, params: dict, resolution: int, output: str,
-                 frames=None, fps: float = 24.0, extra=(), verify: bool = True, on_progress=None):
+    def __init__(self, executable, params: dict, resolution, output: str,
+                 frames=None, fps: float = 24.0, extra=(), verify: bool = True, on_progress=None,
+                 sequence=None, camera=None):
+        """resolution: int, or None to leave it to `--quality` in extra; sequence: the
+        --sequence object ({"fps", "frames": [{"frame", "params"}]}; frames = (first, last)
+        names the files); camera: the CAMERA.json object (--camera). Both are written to
+        temporary files that are removed when the bake ends."""
         if not executable:
             raise BakeError(BakeResult(BAD_ARGUMENT, "the cloudgen command-line tool was not found "
                                                      "(not in the add-on's bin/ nor on PATH)"))
         self.executable = str(executable)
         self.params = dict(params)
-        self.resolution = int(resolution)
+        self.resolution = None if resolution is None else int(resolution)
         self.output = str(output)
         self.frames = frames
         self.fps = fps
@@ -102,8 +124,13 @@ class BakeJob:
         self.stdout_lines: list = []
         self.stderr_lines: list = []
         self.written: list = []
+        self.copied: list = []
+        self.kept: list = []
+        self.sequence = sequence
+        self.camera = camera
         self._proc = None
         self._params_file = None
+        self._temp_files: list = []
         self._threads: list = []
         self._cancel_requested = False
         self._result = None
@@ -111,13 +138,36 @@ class BakeJob:
 
     # -- running ---------------------------------------------------------
     def command(self):
+        extra = list(self.extra)
+        if self.camera is not None:
+            extra += ["--camera", self._temp("camera") or "CAMERA.json"]
+        sequence_file = None
+        if self.sequence is not None:
+            sequence_file = self._temp("sequence") or "SEQUENCE.json"
         return bake_command(self.executable, self._params_file or "PARAMS.json", self.resolution,
-                            self.output, self.frames, self.fps, self.extra)
+                            self.output, self.frames, self.fps, extra, sequence_file)
+
+    def _temp(self, kind):
+        for k, path in self._temp_files:
+            if k == kind:
+                return path
+        return None
+
+    def _write_temp(self, kind, data):
+        fd, path = tempfile.mkstemp(prefix=f"cloudgen-{kind}-", suffix=".json")
+        self._temp_files.append((kind, path))
+        with os.fdopen(fd, "w") as f:
+            json.dump(data, f)
+        return path
 
     def start(self):
         fd, self._params_file = tempfile.mkstemp(prefix="cloudgen-params-", suffix=".json")
         with os.fdopen(fd, "w") as f:
             json.dump(self.params, f)
+        if self.sequence is not None:
+            self._write_temp("sequence", self.sequence)
+        if self.camera is not None:
+            self._write_temp("camera", self.camera)
         try:
             self._proc = subprocess.Popen(
                 self.command(), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
@@ -139,12 +189,18 @@ class BakeJob:
     def _on_stdout(self, line):
         progress = _PROGRESS.match(line)
         wrote = _WROTE.match(line)
+        copied = _COPIED.match(line)
+        kept = _KEPT.match(line)
         with self._lock:
             self.stdout_lines.append(line)
             if progress:
                 self.progress = float(progress.group(1))
             if wrote:
                 self.written.append(wrote.group(1))
+            if copied:
+                self.copied.append((copied.group(1), int(copied.group(2))))
+            if kept:
+                self.kept.append(kept.group(1))
         if progress and self.on_progress is not None:
             self.on_progress(self.progress)
 
@@ -187,7 +243,8 @@ class BakeJob:
         self._cleanup()
         if code < 0:  # killed by a signal other than the ones it handles
             code = CANCELLED if self._cancel_requested else IO_ERROR
-        result = BakeResult(code, self._message(code), list(self.written))
+        result = BakeResult(code, self._message(code), list(self.written), list(self.copied),
+                            list(self.kept))
         if result.ok:
             result = self._verified(result)
         if result.ok:
@@ -197,6 +254,9 @@ class BakeJob:
 
     def _message(self, code):
         if code == OK:
+            if self.copied or self.kept:
+                return (f"{len(self.written)} baked, {len(self.copied)} copied, {len(self.kept)} kept"
+                        f" ({len(self.written) + len(self.copied) + len(self.kept)} files)")
             return f"baked {len(self.written)} file(s): " + ", ".join(self.written)
         errors = [ln for ln in self.stderr_lines if ln.strip()]
         text = errors[-1] if errors else f"cloudgen bake exited with code {code}"
@@ -212,7 +272,8 @@ class BakeJob:
         missing = [p for p in expected if not os.path.isfile(p)]
         if missing:
             return BakeResult(IO_ERROR, f"I/O error: cloudgen reported success but {missing[0]} "
-                                        "does not exist", list(result.paths))
+                                        "does not exist", list(result.paths), list(result.copied),
+                              list(result.kept))
         if not self.verify:
             return result
         for path in expected:
@@ -231,6 +292,12 @@ class BakeJob:
         return result
 
     def _cleanup(self):
+        while self._temp_files:
+            _, path = self._temp_files.pop()
+            try:
+                os.remove(path)
+            except OSError:
+                pass
         if self._params_file:
             try:
                 os.remove(self._params_file)

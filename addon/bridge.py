@@ -128,3 +128,49 @@ def cloudgen_executable() -> str | None:
         if os.access(path, os.X_OK):
             return str(path)
     return shutil.which("cloudgen")
+
+
+# ---------------------------------------------------------------- issue 6 additions
+# Newer parts of the core; each degrades to a one-line reason when the loaded
+# module or CLI predates them (the add-on still registers and bakes).
+def tiers() -> dict:
+    """{name: {"label", "description", "render", "bake", "preview", "measured"}} in the
+    core's order (Draft, Preview, Final); RuntimeError naming what is missing."""
+    mod = require()
+    if not hasattr(mod, "tiers"):
+        raise RuntimeError("this cloudgen_native has no quality tiers (tiers()): update the add-on")
+    return dict(mod.tiers())
+
+
+def field_key(values: dict):
+    """16 hex digits, equal for equal density fields; None when the core has no field_key()."""
+    mod = native()
+    if mod is None or not hasattr(mod, "field_key"):
+        return None
+    return str(mod.field_key(values))
+
+
+_features = {}
+
+
+def cli_features(executable) -> frozenset:
+    """Options of `cloudgen bake` this CLI knows, among --quality, --camera, --sequence,
+    --update (read from `cloudgen bake --help`, cached per file and modification time)."""
+    import subprocess  # noqa: PLC0415
+
+    if not executable:
+        return frozenset()
+    try:
+        key = (str(executable), os.stat(executable).st_mtime_ns)
+    except OSError:
+        return frozenset()
+    if key not in _features:
+        try:
+            out = subprocess.run([str(executable), "bake", "--help"], capture_output=True, text=True,
+                                 stdin=subprocess.DEVNULL, timeout=30, errors="replace")
+            text = out.stdout + out.stderr
+        except (OSError, subprocess.SubprocessError):
+            text = ""
+        _features[key] = frozenset(o for o in ("--quality", "--camera", "--sequence", "--update")
+                                   if o in text)
+    return _features[key]

@@ -1,7 +1,8 @@
-"""Scene settings of the add-on: scene.cloudgen (cloud type to add, preview options)."""
+"""Scene settings of the add-on: scene.cloudgen (cloud type to add, preview options,
+Cloud Quality tier, bake options)."""
 import bpy
 
-from . import bridge
+from . import bridge, quality
 
 _type_items = []  # Blender needs the enum strings kept alive (dynamic items)
 
@@ -37,6 +38,15 @@ class CloudgenSceneSettings(bpy.types.PropertyGroup):
                                          description="Width of the preview in pixels")
     preview_live: bpy.props.BoolProperty(name="Live", default=True,
                                          description="Update the preview when parameters change")
+    quality: bpy.props.EnumProperty(
+        name="Cloud Quality", items=quality.tier_items, default=0, update=quality.on_quality_changed,
+        description="Quality tier: render samples and step rate, preview size and bake settings "
+                    "(Custom: your own settings)")
+    bake_fit_camera: bpy.props.BoolProperty(
+        name="Fit to Camera", default=False,
+        description="Bake only what the scene camera sees, with voxels as small as a pixel at "
+                    "the nearest visible point (perspective cameras; Bake to VDB's resolution "
+                    "then caps the voxel count)")
 
 
 classes = (CloudgenSceneSettings,)
