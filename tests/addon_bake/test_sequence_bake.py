@@ -1,0 +1,149 @@
+"""Bake Frame Range computes only what changes (bpy 4.5, the real CLI's --sequence and
+--update): a still cloud bakes once and copies the other frames; a keyframed density
+step at frame 3 gives two fields (frames 1-2, 3-5); re-running unchanged keeps every
+file; changing a keyframe re-bakes only the frames it affects. Bakes at resolution 16
+(tiny, fast). Counts come from the CLI's `wrote` / `copied` / `kept` lines as the
+operator parsed them (bake.last_result); no timing is asserted. The add-on is
+pointed at build/bin/cloudgen (the package's copy may predate the build until it
+is repackaged)."""
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+from bake_scene import small_scene
+from test_bake_options import key_density
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CLI = ROOT / "build" / "bin" / "cloudgen"
+RES = 16
+
+
+def _cli_has_sequence():
+    if not CLI.is_file():
+        return False
+    out = subprocess.run([str(CLI), "bake", "--help"], capture_output=True, text=True)
+    return "--sequence" in out.stdout and "--update" in out.stdout
+
+
+pytestmark = pytest.mark.skipif(not _cli_has_sequence(),
+                                reason="build/bin/cloudgen has no --sequence/--update yet")
+
+
+@pytest.fixture(autouse=True)
+def built_cli(bake_addon, monkeypatch):
+    from cloudgen import bridge
+
+    monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
+
+
+def _socket(cloud, label):
+    from cloudgen import cloud_object
+
+    for node in cloud_object.cloud_nodes(cloud):
+        if label in node.inputs:
+            return node.inputs[label]
+    raise LookupError(label)
+
+
+def still_cloud(tmp_path, first, last):
+    """A saved scene with a cumulus that does not move: no wind, no evolution, no keys."""
+    import bpy
+    from cloudgen import cloud_object
+
+    sc = small_scene()
+    sc.frame_start, sc.frame_end = first, last
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "seq.blend"))
+    cloud = cloud_object.create_cloud(bpy.context, "cumulus")
+    _socket(cloud, "Wind Strength").default_value = 0.0
+    _socket(cloud, "Evolution").default_value = 0.0
+    return sc, cloud
+
+
+def bake_range():
+    import bpy
+    from cloudgen import bake
+
+    assert bpy.ops.cloudgen.bake_vdb(resolution=RES, sequence=True,
+                                     filepath="//seq/c_####.vdb") == {"FINISHED"}
+    return bake.last_result
+
+
+def frame_of(path):
+    return int(pathlib.Path(path).stem.split("_")[-1])
+
+
+def _loads_as_volume(path):
+    import bpy
+
+    vol = bpy.data.volumes.new("check")
+    try:
+        vol.filepath = str(path)
+        assert vol.grids.load(), f"{path} does not load: {vol.grids.error_message}"
+        return "density" in [g.name for g in vol.grids]
+    finally:
+        bpy.data.volumes.remove(vol)
+
+
+def test_still_cloud_bakes_once(bake_addon, tmp_path):
+    from cloudgen import bake
+
+    still_cloud(tmp_path, 1, 5)
+    result = bake_range()
+    assert result.counts() == "1 baked, 4 copied, 0 kept"
+    assert [frame_of(p) for p in result.paths] == [1]
+    assert sorted((frame_of(p), src) for p, src in result.copied) == [(f, 1) for f in range(2, 6)]
+    assert "5 frames: 1 baked, 4 copied, 0 kept" in bake.last_report
+    files = sorted(os.listdir(tmp_path / "seq"))
+    assert files == [f"c_{f:04d}.vdb" for f in range(1, 6)]
+    for name in files:
+        assert _loads_as_volume(tmp_path / "seq" / name)
+
+
+def test_still_cloud_with_time_from_frame_bakes_once(bake_addon, tmp_path):
+    """Time follows the frame, but without wind and evolution it cannot change the field."""
+    import bpy
+    from cloudgen import cloud_object
+
+    _, cloud = still_cloud(tmp_path, 1, 10)
+    bpy.context.view_layer.objects.active = cloud
+    assert bpy.ops.cloudgen.time_from_frame(enable=True) == {"FINISHED"}
+    result = bake_range()
+    assert result.counts() == "1 baked, 9 copied, 0 kept"
+    assert cloud_object.params_from_object(cloud)["time"] == pytest.approx(1 / 24, abs=1e-6)
+
+
+def test_keyframed_change_rerun_and_edit(bake_addon, tmp_path):
+    sc, cloud = still_cloud(tmp_path, 1, 5)
+    key_density(cloud, {1: 0.5, 3: 0.9})
+    result = bake_range()
+    # frames 1-2 one field, 3-5 another
+    assert result.counts() == "2 baked, 3 copied, 0 kept"
+    assert sorted(frame_of(p) for p in result.paths) == [1, 3]
+    assert sorted((frame_of(p), src) for p, src in result.copied) == [(2, 1), (4, 3), (5, 3)]
+    seq = tmp_path / "seq"
+    assert (seq / "c_0001.vdb").read_bytes() != (seq / "c_0003.vdb").read_bytes()
+
+    # unchanged: nothing baked; the baked frames are kept (the CLI may re-copy a
+    # duplicate frame from its source rather than report it kept: both cost no bake)
+    result = bake_range()
+    assert result.paths == []
+    assert {1, 3} <= {frame_of(p) for p in result.kept}
+    assert sorted([frame_of(p) for p in result.kept] + [frame_of(p) for p, _ in result.copied]) \
+        == [1, 2, 3, 4, 5]
+
+    # change the first key only: frame 1 re-baked, frame 2 copied from it, 3 kept (4-5
+    # kept or copied from 3)
+    key_density(cloud, {1: 0.6})
+    result = bake_range()
+    assert [frame_of(p) for p in result.paths] == [1]
+    assert (str(seq / "c_0002.vdb"), 1) in [(os.path.normpath(p), f) for p, f in result.copied]
+    assert 3 in {frame_of(p) for p in result.kept}
+    assert len(result.paths) + len(result.copied) + len(result.kept) == 5
+
+    # a parameter of every frame: everything re-baked (two fields again)
+    _socket(cloud, "Noise Scale").default_value = 1.3
+    result = bake_range()
+    assert result.counts() == "2 baked, 3 copied, 0 kept"
+    assert sc.frame_current == 1
