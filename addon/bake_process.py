@@ -10,14 +10,16 @@ so this module is tested with plain pytest (tests/addon_bake/test_bake_process.p
 or `run_bake(...)` for a blocking bake that raises BakeError.
 
 The CLI's contract (`cloudgen bake --help`): `bake: P%` lines on stdout, one
-`wrote PATH ...` line per file, a one-line `cloudgen: error: ...` on stderr,
-exit 0 ok / 1 I/O failure / 2 bad argument / 130 cancelled, files written
+`wrote PATH ...`, `copied PATH (same field as frame N)` or `kept PATH (unchanged)`
+line per file (BakeResult.paths / .copied / .kept), a one-line
+`cloudgen: error: ...` on stderr, exit 0 ok / 1 I/O failure / 2 bad argument / 130 cancelled, files written
 atomically (an error or SIGTERM leaves no partial file; finished frames stay).
 
 Defence in depth: a full disk can go unnoticed by OpenVDB's stream writer
 (the CLI then exits 0 with a truncated file), so after a successful bake every
-written file is read back with `cloudgen info`; a file that does not read is
-deleted and the bake fails with exit code 1.
+written file is read back with `cloudgen info` (a copy of a frame: its size is
+compared with the source's; a kept file was checked when it was written); a
+file that does not read is deleted and the bake fails with exit code 1.
 """
 from __future__ import annotations
 
@@ -276,7 +278,13 @@ class BakeJob:
                               list(result.kept))
         if not self.verify:
             return result
+        kept = {os.path.normpath(k) for k in result.kept}  # untouched: read back when written
+        copies = {os.path.normpath(c): f for c, f in result.copied}
         for path in expected:
+            if os.path.normpath(path) in kept:
+                continue
+            if os.path.normpath(path) in copies and self._same_size_as_source(path, copies):
+                continue  # a whole copy of a file that is read back itself
             check = subprocess.run([self.executable, "info", path], stdin=subprocess.DEVNULL,
                                    capture_output=True, text=True, errors="replace")
             if check.returncode != 0:
@@ -290,6 +298,14 @@ class BakeJob:
                 return BakeResult(IO_ERROR, f"I/O error: {path} was written but does not read back "
                                             f"(disk full?): {why}; removed", [])
         return result
+
+    def _same_size_as_source(self, path, copies):
+        frame = copies[os.path.normpath(path)]
+        source = sequence_paths(self.output, frame, frame)[0]
+        try:
+            return os.path.getsize(path) == os.path.getsize(source) > 0
+        except OSError:
+            return False
 
     def _cleanup(self):
         while self._temp_files:
