@@ -127,3 +127,17 @@ def test_without_tiers_only_custom(addon, scene, monkeypatch):
         addon.quality.apply(scene, "draft")
     log = draw(addon.quality.CLOUDGEN_PT_quality, bpy.context)
     assert ("label", "this cloudgen_native has no quality tiers (tiers()): update the add-on") in log
+
+
+def test_bake_panel_shows_fit_to_camera_and_the_tier(addon, scene, tiers):
+    import bpy
+
+    bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
+    log = draw(addon.bake.CLOUDGEN_PT_bake, bpy.context)
+    assert ("prop", "bake_fit_camera") in log
+    assert ("label", "Custom: 96³") in log
+    name, tier = next(iter(tiers.items()))
+    bpy.ops.cloudgen.apply_quality(tier=name)
+    log = draw(addon.bake.CLOUDGEN_PT_bake, bpy.context)
+    summary = [t for k, t in log if k == "label" and t.startswith(tier["label"] + ": ")]
+    assert summary and summary[0].startswith(f"{tier['label']}: {tier['bake']['resolution']}³")
