@@ -2,6 +2,7 @@
 
 Usage: .venv/bin/python scripts/render_cloud.py --preset cumulus --output out/cumulus.png
        [--params FILE.json] [--size 320x240] [--samples 64] [--step-rate 0.05] [--seed 0]
+       [--vdb FILE.vdb]
 
 Builds a small scene — the cloud box with a Principled Volume fed by Cloud
 Main, a camera, a sun and a blue sky — and renders it on the CPU with OSL,
@@ -10,7 +11,12 @@ Writes the image atomically.
 
 The Principled Volume takes the preset's material settings ("material" in
 native/presets/clouds.json: anisotropy, color, step_rate); --step-rate
-overrides the step rate. The camera is placed from the box and the lens
+overrides the step rate. With --vdb the same scene renders a baked VDB (`cloudgen
+bake` of the same parameters) instead of the procedural material: a Volume
+object at the box's centre (the grid is in the cloud's local frame, scene units)
+whose Principled Volume (same colour and anisotropy) reads the grid `density`
+and steps at the voxel size (material step rate 1, as the add-on's bake does;
+--step-rate overrides it); OSL is off (the VDB needs no script nodes). The camera is placed from the box and the lens
 (`frame_camera`): a compact or tall cloud is seen from the side, slightly
 below its middle, far enough back that the whole box fits; a layer cloud (a
 box much wider than tall) is lifted overhead and seen from below at an angle,
@@ -45,6 +51,8 @@ def parse_args(argv):
     ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
     ap.add_argument("--no-early-exit", action="store_true",
                     help="compile Cloud Main without its early exit (benchmarking only)")
+    ap.add_argument("--vdb", default=None,
+                    help="render this baked VDB (grid `density`, cloud-local frame) instead of the procedural material")
     return ap.parse_args(argv)
 
 
@@ -90,7 +98,8 @@ def build_scene(values, args):
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
-    scene.cycles.shading_system = True
+    vdb = getattr(args, "vdb", None)
+    scene.cycles.shading_system = not vdb  # OSL only for the procedural material
     scene.cycles.samples = args.samples
     scene.cycles.use_denoising = False
     scene.cycles.seed = args.seed
@@ -113,18 +122,26 @@ def build_scene(values, args):
     mat.use_nodes = True
     nt = mat.node_tree
     nt.nodes.clear()
-    coords = nt.nodes.new("ShaderNodeTexCoord")
-    defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
-    main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"], defines=defines)
     material = resolve_material(args)
     volume = nt.nodes.new("ShaderNodeVolumePrincipled")
     volume.inputs["Color"].default_value = (*material["color"], 1.0)
     volume.inputs["Anisotropy"].default_value = material["anisotropy"]
     out = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(main.outputs["Density"], volume.inputs["Density"])
     nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
-    mat.cycles.volume_step_rate = material["step_rate"]
-    cloud.data.materials.append(mat)
+    if vdb:
+        grid = nt.nodes.new("ShaderNodeAttribute")
+        grid.attribute_name = "density"
+        nt.links.new(grid.outputs["Fac"], volume.inputs["Density"])
+        step = getattr(args, "step_rate", None)
+        mat.cycles.volume_step_rate = 1.0 if step is None else step  # a VDB steps at its voxel size
+        cloud = vdb_object(vdb, cloud, mat)
+    else:
+        coords = nt.nodes.new("ShaderNodeTexCoord")
+        defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
+        main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"], defines=defines)
+        nt.links.new(main.outputs["Density"], volume.inputs["Density"])
+        mat.cycles.volume_step_rate = material["step_rate"]
+        cloud.data.materials.append(mat)
 
     cam_data = bpy.data.cameras.new("Camera")
     cam_data.lens = LENS_MM
@@ -149,6 +166,23 @@ def build_scene(values, args):
     bg.inputs["Strength"].default_value = 0.8
     scene.world = world
     return scene
+
+
+def vdb_object(path, box_obj, mat):
+    """Replace the procedural box `box_obj` by a Volume object reading `path`, at the
+    box's location with unit scale (the grid is in scene units, centred on the box)."""
+    import bpy
+
+    vol = bpy.data.volumes.new("CloudVDB")
+    vol.filepath = str(pathlib.Path(path).resolve())
+    vol.grids.load()
+    obj = bpy.data.objects.new("Cloud", vol)
+    obj.location = box_obj.location
+    bpy.data.objects.remove(box_obj)
+    obj.name = "Cloud"
+    vol.materials.append(mat)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
 
 
 def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM):

@@ -1,0 +1,29 @@
+#!/bin/sh
+# Accuracy sweep of issue 6: regenerates bench/results/accuracy.json (cached
+# points are not re-measured; see bench/accuracy/sweep.py) and then the report
+# (bench/accuracy/report.py, when it exists).
+#   bench/accuracy/run.sh [--quick] [--scenes a,b] [--knobs x,y] [--force] [--runs N]
+# --quick: a smoke run into a temporary directory (results and docs untouched).
+set -eu
+cd "$(dirname "$0")/../.."
+PY=.venv/bin/python
+[ -x build/bin/cloudgen ] || { echo "run.sh: build/bin/cloudgen missing (build the project first)" >&2; exit 2; }
+quick=0
+for a in "$@"; do [ "$a" = "--quick" ] && quick=1; done
+if [ "$quick" = 1 ]; then
+    out=$(mktemp -d "${TMPDIR:-/tmp}/cloudgen-accuracy-XXXXXX")
+    status=0
+    "$PY" bench/accuracy/sweep.py --out "$out" "$@" || status=$?
+    if [ -f bench/accuracy/report.py ] && [ -f "$out/accuracy.json" ]; then
+        "$PY" bench/accuracy/report.py --results "$out/accuracy.json" --docs "$out/accuracy.md" \
+            --images "$out/images_report" || status=$?
+    fi
+    echo "run.sh: quick results in $out"
+    exit $status
+fi
+status=0
+"$PY" bench/accuracy/sweep.py "$@" || status=$?
+if [ -f bench/accuracy/report.py ]; then
+    "$PY" bench/accuracy/report.py || status=$?
+fi
+exit $status

@@ -1,0 +1,56 @@
+"""The scenes of the accuracy sweep and their render settings.
+
+Each scene is scripts/render_cloud.py's scene (build_scene / frame_camera: the
+cloud box, a 50 mm camera framed from the box, a sun, a blue sky, Cycles CPU,
+denoising off) for one preset. Render settings:
+
+- BASE: what every swept point uses unless its knob changes it — render_cloud's
+  defaults: 64 samples, the preset's material step rate, render step rate
+  (scene.cycles.volume_step_rate) 1.
+- REFERENCE: the procedural OSL material with a finer step (render step rate
+  0.125, below every swept point) and many samples, rendered with seeds 1 and
+  2; their average is the reference image, their difference the noise floor.
+  Samples per scene are chosen so one reference render stays under ~4 minutes
+  on the 2-core machine.
+- REFERENCE_50: the Blender 5.0 reference for the volume_biased knob: 5.0's
+  default unbiased (null-scattering) volume integrator, which has no step size.
+"""
+from __future__ import annotations
+
+IMAGE_SIZE = (128, 96)
+QUICK_IMAGE_SIZE = (32, 24)
+SWEEP_SEED = 0          # every swept render (the references use 1 and 2)
+REF_SEEDS = (1, 2)
+
+SCENES = {
+    "cumulus": {
+        "preset": "cumulus",
+        "description": "Fair-weather cumulus (4 x 4 x 3 box) seen from the side, slightly below its middle.",
+    },
+    "stratocumulus": {
+        "preset": "stratocumulus",
+        "description": "A wide thin layer (12 x 12 x 1.6 box) seen from below at an angle, its far edge low in the frame.",
+    },
+    "cirrus": {
+        "preset": "cirrus",
+        "description": "High thin wispy streaks (12 x 12 x 0.6 box) seen from below; material step rate 0.5.",
+    },
+}
+
+BASE = {"samples": 64, "step_rate": 1.0}
+REFERENCE = {
+    "cumulus": {"samples": 80, "step_rate": 0.125},
+    "stratocumulus": {"samples": 96, "step_rate": 0.125},
+    "cirrus": {"samples": 256, "step_rate": 0.125},
+}
+REFERENCE_50 = {"cumulus": {"samples": 192, "volume_biased": "off"},
+                "stratocumulus": {"samples": 192, "volume_biased": "off"},
+                "cirrus": {"samples": 384, "volume_biased": "off"}}
+
+QUICK_BASE = {"samples": 4, "step_rate": 1.0}
+QUICK_REFERENCE = {"samples": 16, "step_rate": 0.25}
+QUICK_REFERENCE_50 = {"samples": 16, "volume_biased": "off"}
+
+
+def size_arg(size):
+    return f"{size[0]}x{size[1]}"
