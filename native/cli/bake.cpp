@@ -1,16 +1,25 @@
-// cli/bake.cpp — `cloudgen bake` and `cloudgen preview`: the verbs that write files.
+// cli/bake.cpp — `cloudgen bake`: one frame, a frame range or a per-frame
+// parameter sequence, at a fixed resolution, a quality tier's settings or the
+// resolution a camera can resolve; frames whose field is already on disk are
+// copied or kept instead of baked again.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cloudgen/camera.h"
+#include "cloudgen/field_key.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
+#include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
-#include "io/image_io.h"
 #include "io/vdb_io.h"
 
 namespace cli {
@@ -18,27 +27,36 @@ namespace cli {
 namespace {
 
 constexpr long long kMaxResolution = 1000000;
-constexpr int kMaxImageSide = 16384;
 
 const char* const kBakeHelp =
-    "usage: cloudgen bake (--preset NAME | --params FILE.json) --resolution N --output FILE.vdb\n"
-    "                     [--time T] [--frames A-B [--fps F]] [--tolerance X] [--no-skip] [--no-lod]\n"
-    "                     [--threads N] [--half] [--max-memory GiB] [--quiet]\n"
+    "usage: cloudgen bake (--preset NAME | --params FILE.json | --sequence FILE.json) --output FILE.vdb\n"
+    "                     [--resolution N] [--quality draft|preview|final] [--camera CAMERA.json]\n"
+    "                     [--time T] [--frames A-B [--fps F]] [--update] [--tolerance X] [--no-skip]\n"
+    "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet]\n"
     "\n"
     "Evaluates the cloud density on a voxel grid over the cloud box and writes it\n"
     "as an OpenVDB file: one float grid named `density`, class fog volume,\n"
     "background 0, only voxels with density > 0 active, Blosc compression, the\n"
-    "parameters and version as metadata. Voxel (i,j,k) has its centre at\n"
+    "parameters, version and bake key as metadata. Voxel (i,j,k) has its centre at\n"
     "(i,j,k)·voxel + origin + voxel/2 in the cloud object's local frame.\n"
     "\n"
     "  --preset NAME       start from a cloud type (see `cloudgen presets`)\n"
     "  --params FILE.json  a parameter file (see `cloudgen params`)\n"
-    "  --resolution N      voxels along the longest box side, cubic voxels, N in [1, 1000000]\n"
+    "  --sequence FILE     per-frame parameters: {\"frames\": [{\"frame\": N, \"params\": {...}}, ...]}\n"
+    "                      (each params object as in a parameter file; time comes from it)\n"
+    "  --resolution N      voxels along the longest box side, cubic voxels, N in [1, 1000000];\n"
+    "                      with --camera the upper limit of what the camera may ask for\n"
+    "  --quality TIER      take resolution, LOD, tolerance and half floats from a quality\n"
+    "                      tier (see `cloudgen tiers`); explicit options win\n"
+    "  --camera FILE.json  camera-aware bake (docs/camera.md): voxel = one pixel's footprint\n"
+    "                      at the nearest visible point of the box, octaves capped there,\n"
+    "                      only the view frustum plus a shadow margin baked\n"
     "  --output FILE.vdb   the file to write; for a sequence a run of # in the name is\n"
     "                      the zero-padded frame number, else _0001 goes before .vdb\n"
     "  --time T            overrides the `time` parameter (seconds)\n"
     "  --frames A-B        bake frames A..B (or one frame A), time = frame / fps\n"
     "  --fps F             frames per second for --frames (default 24)\n"
+    "  --update            keep an existing output whose stored bake key matches\n"
     "  --tolerance X       drop voxels with density <= X (default 0)\n"
     "  --no-skip           evaluate every tile (no skipping of provably empty tiles)\n"
     "  --no-lod            evaluate every noise octave (no level of detail)\n"
@@ -48,32 +66,12 @@ const char* const kBakeHelp =
     "                      exceeds this budget (default 8)\n"
     "  --quiet             no progress lines\n"
     "\n"
-    "Output: progress lines `bake: P%` on stdout, then one `wrote PATH ...` line per\n"
-    "file. Files appear atomically (temporary file + rename): an error, SIGINT or\n"
+    "Frames whose density field equals an earlier frame's (a cloud without wind\n"
+    "and evolution, unchanged keyframes) are copied from that frame's file.\n"
+    "Output: progress lines `bake: P%` on stdout, then per file one line\n"
+    "`wrote PATH ...`, `copied PATH (same field as frame N)` or `kept PATH (unchanged)`.\n"
+    "Files appear atomically (temporary file + rename): an error, SIGINT or\n"
     "SIGTERM leaves no partial file (frames already finished stay).\n"
-    "Exit codes: 0 ok, 1 I/O failure, 2 bad argument, 130 cancelled.\n";
-
-const char* const kPreviewHelp =
-    "usage: cloudgen preview (--preset NAME | --params FILE.json) --axis x|y|z --offset O\n"
-    "                        --size W[xH] --output FILE.png|FILE.exr [--lod] [--time T] [--threads N]\n"
-    "\n"
-    "Writes the 2D cross-section of the density through the cloud box, the plane\n"
-    "perpendicular to --axis at --offset (a generated box coordinate in [0, 1],\n"
-    "0.5 = the centre). Image axes: axis x → columns +y, rows z; axis y → columns\n"
-    "+x, rows z; axis z → columns +x, rows y; the top row is the largest coordinate.\n"
-    "\n"
-    "  --axis x|y|z        the axis the plane is perpendicular to\n"
-    "  --offset O          plane position in [0, 1] (default 0.5)\n"
-    "  --size W[xH]        image size in pixels, each in [1, 16384] (default 256); H\n"
-    "                      defaults to W × the aspect of the box face\n"
-    "  --output FILE       .png: 8-bit grey for the eye, level = round(255·(1 − exp(−density/4)))\n"
-    "                      .exr: 32-bit float channel Y = density, with metadata\n"
-    "                      cloudgen:params (JSON), cloudgen:axis, cloudgen:offset, cloudgen:version\n"
-    "  --lod               limit noise octaves to the pixel footprint (default: all octaves)\n"
-    "  --time T            overrides the `time` parameter (seconds)\n"
-    "  --threads N         worker threads (default 0 = one per core)\n"
-    "\n"
-    "The file appears atomically (temporary file + rename).\n"
     "Exit codes: 0 ok, 1 I/O failure, 2 bad argument, 130 cancelled.\n";
 
 bool ends_with_ci(const std::string& s, const std::string& suffix) {
@@ -81,14 +79,6 @@ bool ends_with_ci(const std::string& s, const std::string& suffix) {
   for (std::size_t i = 0; i < suffix.size(); ++i)
     if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) != suffix[i]) return false;
   return true;
-}
-
-void set_time(cg::Params& p, double t, const std::string& option) {
-  try {
-    p.set(cg::TIME, static_cast<float>(t));
-  } catch (const cg::ParamError& e) {
-    throw UsageError(option + ": " + e.what());
-  }
 }
 
 // Frame file name: the last run of '#' becomes the zero-padded frame number,
@@ -108,39 +98,49 @@ std::string frame_path(const std::string& pattern, long long frame) {
   return pattern.substr(0, pattern.size() - 4) + num + pattern.substr(pattern.size() - 4);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+struct Job {
+  long long frame;  // -1: a single bake
+  cg::Params params;
+  std::string path;
+};
+
+std::vector<Job> sequence_jobs(const std::string& file, const std::string& output) {
+  using json = nlohmann::json;
+  const std::string origin = "--sequence " + file;
+  json doc;
+  try {
+    doc = json::parse(read_text_file(file, "--sequence"));
+  } catch (const json::exception& e) {
+    throw UsageError(origin + ": not valid JSON (" + e.what() + ")");
+  }
+  if (!doc.is_object() || !doc.contains("frames") || !doc["frames"].is_array() || doc["frames"].empty())
+    throw UsageError(origin + ": expected {\"frames\": [{\"frame\": N, \"params\": {...}}, ...]} with at least one frame");
+  for (const auto& [key, value] : doc.items())
+    if (key != "frames" && key != "fps") throw UsageError(origin + ": unknown key '" + key + "'");
+  std::vector<Job> jobs;
+  std::map<long long, bool> seen;
+  for (const json& f : doc["frames"]) {
+    if (!f.is_object() || !f.contains("frame") || !f["frame"].is_number_integer() || !f.contains("params") ||
+        !f["params"].is_object())
+      throw UsageError(origin + ": every entry needs an integer \"frame\" and a \"params\" object");
+    const long long n = f["frame"].get<long long>();
+    if (n < 0 || n > 1000000) throw UsageError(origin + ": frame numbers must be in [0, 1000000]; got " + std::to_string(n));
+    if (seen[n]) throw UsageError(origin + ": frame " + std::to_string(n) + " is listed twice");
+    seen[n] = true;
+    jobs.push_back({n, cg::params_from_json(f["params"].dump(), origin + " (frame " + std::to_string(n) + ")"),
+                    frame_path(output, n)});
+  }
+  return jobs;
 }
 
-}  // namespace
-
-int cmd_bake(const std::vector<std::string>& argv) {
-  Args a("bake", argv,
-         {{"--preset", true}, {"--params", true}, {"--resolution", true}, {"--output", true}, {"--time", true},
-          {"--frames", true}, {"--fps", true}, {"--tolerance", true}, {"--no-skip", false}, {"--no-lod", false},
-          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}});
-  if (a.help()) return std::cout << kBakeHelp, kExitOk;
-  if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
-
-  std::string preset;
+std::vector<Job> plan_jobs(const Args& a, const std::string& output, std::string& preset) {
+  if (a.has("--sequence")) {
+    for (const char* o : {"--preset", "--params", "--frames", "--time", "--fps"})
+      if (a.has(o)) throw UsageError(std::string("--sequence carries the parameters of every frame; drop ") + o);
+    preset.clear();
+    return sequence_jobs(*a.get("--sequence"), output);
+  }
   cg::Params params = load_params(a, preset);
-  cg::BakeOptions opts;
-  opts.resolution = static_cast<int>(a.integer("--resolution", 1, kMaxResolution));
-  const std::string output = a.text("--output");
-  if (!ends_with_ci(output, ".vdb")) throw UsageError("--output '" + output + "' must name a .vdb file");
-  if (a.has("--tolerance")) opts.tolerance = static_cast<float>(a.number("--tolerance", 0.0, 1.0e30));
-  if (a.has("--threads")) opts.threads = static_cast<int>(a.integer("--threads", 0, 1024));
-  opts.skip_empty = !a.has("--no-skip");
-  opts.lod = !a.has("--no-lod");
-  const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
-  const bool quiet = a.has("--quiet");
-
-  // Frames: (frame number, time, path); one entry without --frames.
-  struct Job {
-    long long frame;
-    float time;
-    std::string path;
-  };
   std::vector<Job> jobs;
   if (a.has("--frames")) {
     if (a.has("--time")) throw UsageError("--time and --frames exclude each other (with --frames, time = frame / fps)");
@@ -153,48 +153,188 @@ int cmd_bake(const std::vector<std::string>& argv) {
     const double fps = a.has("--fps") ? a.number("--fps", 0.0, 1000.0, true) : 24.0;
     for (long long f = *from; f <= *to; ++f) {
       set_time(params, double(f) / fps, "--frames (frame " + std::to_string(f) + ")");
-      jobs.push_back({f, params.get(cg::TIME), frame_path(output, f)});
+      jobs.push_back({f, params, frame_path(output, f)});
     }
-  } else {
-    if (a.has("--fps")) throw UsageError("--fps needs --frames");
-    if (a.has("--time")) set_time(params, a.number("--time", -1.0e6, 1.0e6), "--time");
-    jobs.push_back({-1, params.get(cg::TIME), output});
+    return jobs;
   }
+  if (a.has("--fps")) throw UsageError("--fps needs --frames");
+  if (a.has("--time")) set_time(params, a.number("--time", -1.0e6, 1.0e6), "--time");
+  jobs.push_back({-1, params, output});
+  return jobs;
+}
+
+// What decides a bake's voxels besides the field: grid, LOD, drop tolerance,
+// storage precision and the camera region — hashed after the field key.
+std::string bake_key(const cg::Model& m, const cg::BakeOptions& o, const cg::GridSpec& g, bool half) {
+  std::uint64_t h = 14695981039346656037ull;
+  auto mix = [&](const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
+  };
+  mix(g.n, sizeof g.n);
+  mix(&g.voxel, sizeof g.voxel);
+  const int flags[3] = {o.lod, half, o.use_region};
+  mix(flags, sizeof flags);
+  mix(&o.tolerance, sizeof o.tolerance);
+  if (o.use_region) {
+    for (const cg::Plane& p : o.region.planes) mix(&p, sizeof p);
+    for (int l = 0; l < o.region.light_count; ++l) mix(&o.region.lights[l], sizeof(cg::vec3));
+  }
+  char tail[24];
+  std::snprintf(tail, sizeof tail, "-%016llx", static_cast<unsigned long long>(h));
+  return cg::field_key(m) + tail;
+}
+
+std::string stored_bake_key(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return {};
+  try {
+    const cgio::VdbFileInfo info = cgio::read_vdb_info(path);
+    for (const cgio::VdbGridInfo& g : info.grids) {
+      const auto it = g.metadata.find("cloudgen_bake_key");
+      if (g.name == "density" && it != g.metadata.end()) return it->second;
+    }
+  } catch (const cgio::IoError&) {
+    // unreadable: bake it again
+  }
+  return {};
+}
+
+void copy_atomically(const std::string& from, const std::string& to) {
+  cgio::AtomicFile file(to);
+  file.write_with([&](const std::string& tmp) {
+    std::error_code ec;
+    std::filesystem::copy_file(from, tmp, std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec) throw cgio::IoError("cannot copy " + from + " to " + tmp + ": " + ec.message());
+  });
+  file.commit();
+}
+
+}  // namespace
+
+int cmd_bake(const std::vector<std::string>& argv) {
+  Args a("bake", argv,
+         {{"--preset", true}, {"--params", true}, {"--sequence", true}, {"--resolution", true},
+          {"--quality", true}, {"--camera", true}, {"--output", true}, {"--time", true}, {"--frames", true},
+          {"--fps", true}, {"--update", false}, {"--tolerance", true}, {"--no-skip", false}, {"--no-lod", false},
+          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}});
+  if (a.help()) return std::cout << kBakeHelp, kExitOk;
+  if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
+
+  const std::string output = a.text("--output");
+  if (!ends_with_ci(output, ".vdb")) throw UsageError("--output '" + output + "' must name a .vdb file");
+  std::string preset;
+  const std::vector<Job> jobs = plan_jobs(a, output, preset);
+
+  cg::BakeOptions opts;
+  bool half = a.has("--half");
+  if (a.has("--quality")) {
+    const std::string name = *a.get("--quality");
+    const cg::Tier* tier = cg::find_tier(name);
+    if (!tier) {
+      std::string names;
+      for (const cg::Tier& t : cg::tiers()) names += (names.empty() ? "" : ", ") + t.name;
+      throw UsageError("--quality '" + name + "' is not a tier; choose one of: " + names);
+    }
+    opts.resolution = tier->bake_resolution;
+    opts.lod = tier->bake_lod;
+    opts.tolerance = tier->bake_tolerance;
+    half = half || tier->bake_half;
+  }
+  std::optional<cg::CameraView> camera;
+  if (a.has("--camera")) {
+    const std::string file = *a.get("--camera");
+    camera = cg::parse_camera(read_text_file(file, "--camera"), "--camera " + file);
+  }
+  const bool have_resolution = a.has("--resolution");
+  if (have_resolution) opts.resolution = static_cast<int>(a.integer("--resolution", 1, kMaxResolution));
+  else if (!a.has("--quality") && !camera) throw UsageError("give --resolution N (or --quality TIER or --camera FILE)");
+  if (a.has("--tolerance")) opts.tolerance = static_cast<float>(a.number("--tolerance", 0.0, 1.0e30));
+  if (a.has("--threads")) opts.threads = static_cast<int>(a.integer("--threads", 0, 1024));
+  opts.skip_empty = !a.has("--no-skip");
+  if (a.has("--no-lod")) opts.lod = false;
+  const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
+  const bool quiet = a.has("--quiet"), update = a.has("--update");
   for (const Job& j : jobs) cgio::check_output_path(j.path);
 
-  // Memory budget, before anything is allocated (the shape bound does not
-  // depend on time, so one estimate holds for every frame).
-  const cg::Model first = cg::prepare(params);
-  const double gib = double(cg::estimate_bake_bytes(first, opts)) / double(1ull << 30);
-  const cg::GridSpec spec = cg::grid_for_box(first, opts.resolution);
-  if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions
-  if (gib > budget_gib) {
-    char msg[256];
-    std::snprintf(msg, sizeof msg, "--resolution %d needs an estimated %.3g GiB, more than --max-memory %g GiB",
-                  opts.resolution, gib, budget_gib);
-    throw UsageError(msg);
-  }
-  if (!quiet) {
-    std::printf("bake: %s, %dx%dx%d voxels of %g, estimated memory <= %.3f GiB, %d thread(s)\n",
-                preset.empty() ? "parameters" : preset.c_str(), spec.n[0], spec.n[1], spec.n[2], spec.voxel, gib,
-                cg::resolve_threads(opts.threads));
-    std::fflush(stdout);
+  // Per frame: the model, the options (a camera fits them to the frame's box)
+  // and the key of what would be written. Memory is checked for every frame
+  // before anything is baked.
+  struct Planned {
+    cg::Model model;
+    cg::BakeOptions opts;
+    cg::CameraFit fit;
+    cg::GridSpec grid;
+    std::string key;
+  };
+  std::vector<Planned> plan;
+  for (const Job& job : jobs) {
+    Planned p{cg::prepare(job.params), opts, {}, {}, {}};
+    if (camera) {
+      p.fit = cg::fit_camera(p.model, *camera);
+      const float longest = std::max({p.model.box[0], p.model.box[1], p.model.box[2]});
+      const float finest = have_resolution ? longest / float(opts.resolution) : 0.0f;
+      p.opts.voxel = p.fit.visible ? std::max(p.fit.voxel, finest) : longest;  // invisible: one empty voxel
+      p.opts.use_region = true;
+      p.opts.region = p.fit.region;
+      if (!p.fit.visible) {  // a plane nothing passes: every tile culled, nothing evaluated
+        p.opts.region.planes[0] = {cg::vec3(1, 0, 0), -2.0f * longest - 1.0f};
+        p.opts.region.light_count = 0;
+      }
+    }
+    p.grid = cg::bake_grid(p.model, p.opts);
+    p.key = bake_key(p.model, p.opts, p.grid, half);
+    const double gib = double(cg::estimate_bake_bytes(p.model, p.opts)) / double(1ull << 30);
+    if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions
+    if (gib > budget_gib) {
+      const std::string what = camera ? std::string("--camera") : "--resolution " + std::to_string(opts.resolution);
+      const std::string frame = job.frame >= 0 ? " (frame " + std::to_string(job.frame) + ")" : "";
+      char msg[400];
+      std::snprintf(msg, sizeof msg,
+                    "%s%s: %dx%dx%d voxels of %g need an estimated %.3g GiB, more than --max-memory %g GiB%s",
+                    what.c_str(), frame.c_str(), p.grid.n[0], p.grid.n[1], p.grid.n[2], p.grid.voxel, gib, budget_gib,
+                    camera ? " (lower the camera's resolution, raise pixels_per_voxel or cap --resolution)" : "");
+      throw UsageError(msg);
+    }
+    if (!quiet && &job == &jobs.front()) {
+      std::printf("bake: %s, %dx%dx%d voxels of %g, estimated memory <= %.3f GiB, %d thread(s)\n",
+                  preset.empty() ? "parameters" : preset.c_str(), p.grid.n[0], p.grid.n[1], p.grid.n[2],
+                  p.grid.voxel, gib, cg::resolve_threads(opts.threads));
+      if (camera && p.fit.visible)
+        std::printf("camera: nearest visible depth %g, pixel footprint %g, voxel %g, margin %g\n",
+                    p.fit.nearest_depth, p.fit.footprint, p.grid.voxel, p.fit.margin);
+      if (camera && !p.fit.visible) std::printf("camera: the cloud box is outside the view; nothing to bake\n");
+      std::fflush(stdout);
+    }
+    plan.push_back(std::move(p));
   }
 
+  std::map<std::string, const Job*> done;  // bake key -> the frame that has it on disk
   const std::size_t n_jobs = jobs.size();
   for (std::size_t fi = 0; fi < n_jobs; ++fi) {
     const Job& job = jobs[fi];
+    const Planned& p = plan[fi];
+    if (cancel_requested()) throw cg::Cancelled();
+    if (const auto it = done.find(p.key); it != done.end()) {
+      copy_atomically(it->second->path, job.path);
+      std::printf("copied %s (same field as frame %lld)\n", job.path.c_str(), it->second->frame);
+      std::fflush(stdout);
+      continue;
+    }
+    if (update && stored_bake_key(job.path) == p.key) {
+      done.emplace(p.key, &job);
+      std::printf("kept %s (unchanged)\n", job.path.c_str());
+      std::fflush(stdout);
+      continue;
+    }
     const auto t0 = std::chrono::steady_clock::now();
-    params.set(cg::TIME, job.time);
-    const cg::Model model = cg::prepare(params);
     if (!quiet && job.frame >= 0) {
-      std::printf("bake: frame %lld (time %g) -> %s\n", job.frame, job.time, job.path.c_str());
+      std::printf("bake: frame %lld (time %g) -> %s\n", job.frame, job.params.get(cg::TIME), job.path.c_str());
       std::fflush(stdout);
     }
     int last_pct = -1;
-    auto progress = [&](std::int64_t done, std::int64_t total) {
+    auto progress = [&](std::int64_t finished, std::int64_t total) {
       if (!quiet) {
-        const double frac = total > 0 ? double(done) / double(total) : 1.0;
+        const double frac = total > 0 ? double(finished) / double(total) : 1.0;
         const int pct = static_cast<int>(std::floor(100.0 * (double(fi) + frac) / double(n_jobs)));
         if (pct != last_pct) {
           std::printf("bake: %d%%\n", pct);
@@ -205,80 +345,28 @@ int cmd_bake(const std::vector<std::string>& argv) {
       return !cancel_requested();
     };
     cgio::AtomicFile file(job.path);
-    const cg::BakeResult result = cg::bake(model, opts, progress);
+    const cg::BakeResult result = cg::bake(p.model, p.opts, progress);
     if (cancel_requested()) throw cg::Cancelled();
     cgio::VdbWriteOptions wo;
-    wo.half = a.has("--half");
-    wo.params_json = cg::params_to_json(params);
+    wo.half = half;
+    wo.params_json = cg::params_to_json(job.params);
     wo.preset = preset;
-    wo.time = job.time;
-    wo.resolution = opts.resolution;
+    wo.time = job.params.get(cg::TIME);
+    wo.resolution = std::max({p.grid.n[0], p.grid.n[1], p.grid.n[2]});
+    wo.bake_key = p.key;
     file.write_with([&](const std::string& tmp) { cgio::write_vdb(tmp, result, wo); });
     if (cancel_requested()) throw cg::Cancelled();
     file.commit();
+    done.emplace(p.key, &job);
     std::printf("wrote %s (%lld active voxels of %dx%dx%d, %.2f MiB, %.2f s)\n", job.path.c_str(),
-                static_cast<long long>(result.stats.voxels_active), spec.n[0], spec.n[1], spec.n[2],
+                static_cast<long long>(result.stats.voxels_active), p.grid.n[0], p.grid.n[1], p.grid.n[2],
                 double(cgio::file_size(job.path)) / double(1 << 20), seconds_since(t0));
+    if (camera)
+      std::printf("camera: voxel %g, %lld visible tiles of %lld\n", p.grid.voxel,
+                  static_cast<long long>(result.stats.tiles_total - result.stats.tiles_culled),
+                  static_cast<long long>(result.stats.tiles_total));
     std::fflush(stdout);
   }
-  return kExitOk;
-}
-
-int cmd_preview(const std::vector<std::string>& argv) {
-  Args a("preview", argv,
-         {{"--preset", true}, {"--params", true}, {"--axis", true}, {"--offset", true}, {"--size", true},
-          {"--output", true}, {"--lod", false}, {"--time", true}, {"--threads", true}, {"--quiet", false}});
-  if (a.help()) return std::cout << kPreviewHelp, kExitOk;
-  if (!a.positional().empty()) throw UsageError("preview: unexpected argument '" + a.positional()[0] + "'");
-
-  std::string preset;
-  cg::Params params = load_params(a, preset);
-  if (a.has("--time")) set_time(params, a.number("--time", -1.0e6, 1.0e6), "--time");
-  cg::SliceSpec s;
-  const std::string axis = a.text("--axis");
-  if (axis != "x" && axis != "y" && axis != "z") throw UsageError("--axis must be x, y or z; got '" + axis + "'");
-  s.axis = axis[0] - 'x';
-  s.offset = a.has("--offset") ? static_cast<float>(a.number("--offset", 0.0, 1.0)) : 0.5f;
-  s.lod = a.has("--lod");
-  if (a.has("--threads")) s.threads = static_cast<int>(a.integer("--threads", 0, 1024));
-  const std::string output = a.text("--output");
-  const auto format = cgio::image_format_for(output);
-  if (!format) throw UsageError("--output '" + output + "' must name a .png or .exr file");
-
-  const cg::Model model = cg::prepare(params);
-  const std::string size = a.get("--size").value_or("256");
-  const auto x = size.find_first_of("xX");
-  const std::string bad_size = "--size must be W or WxH with integers in [1, " + std::to_string(kMaxImageSide) +
-                               "]; got '" + size + "'";
-  const auto w = parse_integer(size.substr(0, x));
-  if (!w || *w < 1 || *w > kMaxImageSide) throw UsageError(bad_size);
-  s.width = static_cast<int>(*w);
-  if (x != std::string::npos) {
-    const auto h = parse_integer(size.substr(x + 1));
-    if (!h || *h < 1 || *h > kMaxImageSide) throw UsageError(bad_size);
-    s.height = static_cast<int>(*h);
-  } else {
-    int ca, ra;
-    cg::slice_axes(s.axis, ca, ra);
-    const double aspect = double(model.box[ra]) / double(model.box[ca]);
-    s.height = static_cast<int>(std::clamp(std::lround(double(s.width) * aspect), 1L, long(kMaxImageSide)));
-  }
-  cgio::check_output_path(output);
-
-  const auto t0 = std::chrono::steady_clock::now();
-  cgio::AtomicFile file(output);
-  const std::vector<float> values = cg::slice(model, s);
-  if (cancel_requested()) throw cg::Cancelled();
-  cgio::SliceMeta meta;
-  meta.params_json = cg::params_to_json(params);
-  meta.axis = axis[0];
-  meta.offset = s.offset;
-  file.write_with([&](const std::string& tmp) { cgio::write_slice(tmp, *format, values, s.width, s.height, meta); });
-  if (cancel_requested()) throw cg::Cancelled();
-  file.commit();
-  const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
-  std::printf("wrote %s (%dx%d, axis %s at %g, max density %g, %.2f s)\n", output.c_str(), s.width, s.height,
-              axis.c_str(), s.offset, peak, seconds_since(t0));
   return kExitOk;
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cloudgen/param_io.h"
+#include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
 
@@ -120,6 +121,27 @@ double Args::number(const std::string& name, double lo, double hi, bool lo_open)
 
 // ---- parameters ----
 
+std::string read_text_file(const std::string& path, const std::string& option) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError(option + " '" + path + "': cannot read (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw UsageError(option + " '" + path + "': read error");
+  return text.str();
+}
+
+void set_time(cg::Params& p, double t, const std::string& option) {
+  try {
+    p.set(cg::TIME, static_cast<float>(t));
+  } catch (const cg::ParamError& e) {
+    throw UsageError(option + ": " + e.what());
+  }
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 cg::Params load_params(const Args& args, std::string& preset) {
   const bool has_preset = args.has("--preset"), has_file = args.has("--params");
   if (has_preset == has_file) throw UsageError("give exactly one of --preset NAME or --params FILE.json");
@@ -135,14 +157,10 @@ cg::Params load_params(const Args& args, std::string& preset) {
     return p->params;
   }
   const std::string path = *args.get("--params");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError("--params '" + path + "': cannot read (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw UsageError("--params '" + path + "': read error");
+  const std::string text = read_text_file(path, "--params");
   preset.clear();
   try {
-    return cg::params_from_json(text.str(), "--params " + path);
+    return cg::params_from_json(text, "--params " + path);
   } catch (const cg::ParamError&) {
     throw;
   } catch (const std::exception& e) {
@@ -185,6 +203,36 @@ int cmd_presets(const std::vector<std::string>& argv) {
       }
     }
     std::printf("%-18s material: %s\n", "", line.c_str());
+  }
+  return kExitOk;
+}
+
+// ---- tiers ----
+
+static const char* const kTiersHelp =
+    "usage: cloudgen tiers [--json]\n"
+    "\n"
+    "Lists the quality tiers (Draft, Preview, Final): named points on the measured\n"
+    "speed/accuracy trade (docs/accuracy.md) with their render settings (Cycles\n"
+    "samples, volume step rate), bake settings (resolution, LOD, drop tolerance,\n"
+    "half floats) and preview size. --json prints the tiers data file with the\n"
+    "measured times and errors per scene. Use one with `cloudgen bake --quality NAME`.\n";
+
+int cmd_tiers(const std::vector<std::string>& argv) {
+  Args a("tiers", argv, {{"--json", false}});
+  if (a.help()) return std::cout << kTiersHelp, kExitOk;
+  if (!a.positional().empty()) throw UsageError("tiers: unexpected argument '" + a.positional()[0] + "'");
+  if (a.has("--json")) {
+    (void)cg::tiers();  // validated before printing
+    std::cout << cg::tiers_json();
+    return kExitOk;
+  }
+  for (const cg::Tier& t : cg::tiers()) {
+    std::printf("%-8s %s\n", t.name.c_str(), t.description.c_str());
+    std::printf("%-8s render: %d samples, step rate %g; bake: resolution %d, lod %s, tolerance %g, %s floats; "
+                "preview %d px\n",
+                "", t.render_samples, t.render_step_rate, t.bake_resolution, t.bake_lod ? "on" : "off",
+                t.bake_tolerance, t.bake_half ? "half" : "full", t.preview_size);
   }
   return kExitOk;
 }

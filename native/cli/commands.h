@@ -5,6 +5,7 @@
 // 1 runtime failure (IoError); 130 cancelled (SIGINT/SIGTERM).
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -58,9 +59,18 @@ class Args {
 std::optional<long long> parse_integer(const std::string& s);
 std::optional<double> parse_number(const std::string& s);
 
+// The whole file as text; UsageError naming `option` when it cannot be read.
+std::string read_text_file(const std::string& path, const std::string& option);
+
 // The parameters from exactly one of --preset NAME / --params FILE.json
 // (UsageError/ParamError otherwise); `preset` receives the preset's name.
 cg::Params load_params(const Args& args, std::string& preset);
+
+// Sets the `time` parameter; a bad value is a UsageError naming `option`.
+void set_time(cg::Params& p, double t, const std::string& option);
+
+// Wall seconds since t0 (steady clock).
+double seconds_since(std::chrono::steady_clock::time_point t0);
 
 // Collapses a message onto one line.
 std::string one_line(std::string s);
@@ -71,6 +81,7 @@ int cmd_preview(const std::vector<std::string>& argv);
 int cmd_presets(const std::vector<std::string>& argv);
 int cmd_params(const std::vector<std::string>& argv);
 int cmd_info(const std::vector<std::string>& argv);
+int cmd_tiers(const std::vector<std::string>& argv);
 
 extern const char* const kUsage;  // cloudgen --help
 

@@ -57,6 +57,7 @@ const char* const kUsage =
     "  bake      evaluate the density on a voxel grid, write FILE.vdb (or a sequence)\n"
     "  preview   write a 2D cross-section through the cloud box as PNG or EXR\n"
     "  presets   list the cloud types\n"
+    "  tiers     list the quality tiers (Draft, Preview, Final) for bake --quality\n"
     "  params    list the parameters a --params FILE.json may set (--json for JSON)\n"
     "  info      describe a VDB file: grids, class, voxel size, active voxels, metadata\n"
     "\n"
@@ -66,6 +67,7 @@ const char* const kUsage =
     "examples:\n"
     "  cloudgen bake --preset cumulus --resolution 128 --output cumulus.vdb\n"
     "  cloudgen bake --params my.json --resolution 96 --frames 1-48 --fps 24 --output cloud_####.vdb\n"
+    "  cloudgen bake --preset cumulus --quality preview --camera shot.json --output shot.vdb\n"
     "  cloudgen preview --preset cumulus --axis y --offset 0.5 --size 512 --output slice.png\n"
     "\n"
     "exit codes: 0 ok; 1 runtime failure (I/O); 2 bad usage or argument (one line\n"
@@ -93,7 +95,8 @@ int run(const std::vector<std::string>& args) {
   if (verb == "presets") return cmd_presets(rest);
   if (verb == "params") return cmd_params(rest);
   if (verb == "info") return cmd_info(rest);
-  throw UsageError("unknown command '" + verb + "'; expected one of bake, preview, presets, params, info");
+  if (verb == "tiers") return cmd_tiers(rest);
+  throw UsageError("unknown command '" + verb + "'; expected one of bake, preview, presets, tiers, params, info");
 }
 
 }  // namespace

@@ -106,6 +106,7 @@ void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWri
     if (!o.preset.empty()) grid->insertMeta("cloudgen_preset", openvdb::StringMetadata(o.preset));
     grid->insertMeta("cloudgen_time", openvdb::FloatMetadata(o.time));
     grid->insertMeta("cloudgen_resolution", openvdb::Int32Metadata(o.resolution));
+    if (!o.bake_key.empty()) grid->insertMeta("cloudgen_bake_key", openvdb::StringMetadata(o.bake_key));
     grid->insertMeta("cloudgen_lod_worley_octaves", openvdb::FloatMetadata(bake.stats.lod_worley_octaves));
     grid->insertMeta("cloudgen_lod_perlin_octaves", openvdb::FloatMetadata(bake.stats.lod_perlin_octaves));
     grid->setSaveFloatAsHalf(o.half);

@@ -6,7 +6,8 @@
 // origin + voxel/2, i.e. the voxel centre of cg::GridSpec::centre(), in the
 // cloud object's local frame. Metadata on the grid: cloudgen_version,
 // cloudgen_params (JSON), cloudgen_preset (if any), cloudgen_time,
-// cloudgen_resolution, cloudgen_lod_worley_octaves, cloudgen_lod_perlin_octaves.
+// cloudgen_resolution, cloudgen_lod_worley_octaves, cloudgen_lod_perlin_octaves,
+// cloudgen_bake_key (when given).
 // Blosc compression (when the library has it); optionally 16-bit floats.
 //
 // OpenVDB itself stays inside vdb_io.cpp: the reader hands out plain values.
@@ -29,6 +30,7 @@ struct VdbWriteOptions {
   std::string preset;        // empty: no cloudgen_preset entry
   float time = 0.0f;         // the `time` parameter baked
   int resolution = 0;
+  std::string bake_key;      // field key + bake settings (`bake --update` compares it)
 };
 
 // Writes `bake` to `path` (the caller passes a temporary, see atomic_file.h).

@@ -13,7 +13,9 @@
 #include "arrays.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
+#include "cloudgen/field_key.h"
 #include "cloudgen/param_io.h"
+#include "cloudgen/tiers.h"
 #include "cloudgen/parallel.h"
 #include "convert.h"
 
@@ -76,17 +78,38 @@ PyObject* py_resolve_params(PyObject*, PyObject* params) {
   return guarded([&] { return params_to_py(params_from_py(params)).release(); });
 }
 
+PyObject* py_tiers(PyObject*, PyObject*) {
+  return guarded([] {
+    (void)cg::tiers();  // validates the data file (ParamError -> ValueError)
+    Ref json_module = check(PyImport_ImportModule("json"));
+    return check(PyObject_CallMethod(json_module.get(), "loads", "s", cg::tiers_json())).release();
+  });
+}
+
+PyObject* py_field_key(PyObject*, PyObject* params) {
+  return guarded([&] { return str_to_py(cg::field_key(params_from_py(params)).c_str()).release(); });
+}
+
 // ---------------------------------------------------------------- density ---
+
+float footprint_arg(PyObject* o) {
+  if (!o) return 0.0f;
+  static const char* expect = "footprint must be a number >= 0 (scene units; 0 = every octave)";
+  const double v = number_arg(o, expect);
+  if (!std::isfinite(v) || v < 0.0 || v > 1e30) raise(PyExc_ValueError, std::string(expect) + "; got " + repr(o));
+  return static_cast<float>(v);
+}
 
 PyObject* py_density(PyObject*, PyObject* args, PyObject* kwargs) {
   return guarded([&] {
-    static const char* kwlist[] = {"params", "points", "threads", nullptr};
-    PyObject *params_obj = nullptr, *points_obj = nullptr, *threads_obj = nullptr;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|O:density", const_cast<char**>(kwlist), &params_obj,
-                                     &points_obj, &threads_obj))
+    static const char* kwlist[] = {"params", "points", "threads", "footprint", nullptr};
+    PyObject *params_obj = nullptr, *points_obj = nullptr, *threads_obj = nullptr, *footprint_obj = nullptr;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|OO:density", const_cast<char**>(kwlist), &params_obj,
+                                     &points_obj, &threads_obj, &footprint_obj))
       throw PyErrorSet{};
     const cg::Params params = params_from_py(params_obj);
     const int threads = threads_arg(threads_obj);
+    const float footprint = footprint_arg(footprint_obj);
     const std::vector<float> points = points_from_py(points_obj);  // owned copy, safe without the GIL
     const auto n = static_cast<std::int64_t>(points.size() / 3);
     OutputArray out;
@@ -94,12 +117,13 @@ PyObject* py_density(PyObject*, PyObject* args, PyObject* kwargs) {
     float* result = out.data();  // held by out.buffer until we return
     without_gil([&] {
       const cg::Model model = cg::prepare(params);
+      const cg::Lod lod = footprint > 0.0f ? cg::lod_for_footprint(model, footprint) : cg::kNoLod;
       const std::int64_t tasks = (n + kPointsPerTask - 1) / kPointsPerTask;
       cg::parallel_for(tasks, tasks > 1 ? cg::resolve_threads(threads) : 1, [&](std::int64_t task, int) {
         const std::int64_t end = std::min(n, (task + 1) * kPointsPerTask);
         for (std::int64_t i = task * kPointsPerTask; i < end; ++i) {
           const float* p = &points[static_cast<std::size_t>(i) * 3];
-          result[i] = cg::density(model, cg::vec3{p[0], p[1], p[2]});
+          result[i] = cg::density(model, cg::vec3{p[0], p[1], p[2]}, lod);
         }
       });
     });
@@ -192,13 +216,25 @@ PyMethodDef kMethods[] = {
      "the key and the accepted range."},
     {"density", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_density)),
      METH_VARARGS | METH_KEYWORDS,
-     "density(params, points, threads=0)\n--\n\n"
+     "density(params, points, threads=0, footprint=0.0)\n--\n\n"
      "Cloud density at points in the cloud object's local frame (the box is\n"
      "centred on the origin, box_size across). params: dict keyed by parameter\n"
      "names (missing keys take their defaults; 'preset' names the base cloud type)\n"
      "or None. points: array-like of shape (N, 3); NaN, Inf and points outside the\n"
      "box give 0. Returns float32 array (N,).\n"
-     "threads: 0 = one per core. Releases the GIL while evaluating."},
+     "threads: 0 = one per core. footprint > 0: the level of detail a bake with\n"
+     "that voxel edge uses (octaves finer than it are replaced by their mean).\n"
+     "Releases the GIL while evaluating."},
+    {"tiers", py_tiers, METH_NOARGS,
+     "tiers()\n--\n\n"
+     "The quality tiers (native/presets/tiers.json) in order Draft, Preview, Final:\n"
+     "dict name -> {'label', 'description', 'render': {'samples', 'step_rate'},\n"
+     "'bake': {'resolution', 'lod', 'tolerance', 'half'}, 'preview': {'size'},\n"
+     "'measured': {scene: {figures from bench/accuracy}}}."},
+    {"field_key", py_field_key, METH_O,
+     "field_key(params, /)\n--\n\n"
+     "16 hex digits identifying the density field of a params dict: equal keys mean\n"
+     "equal fields (time drops out of a cloud without wind and evolution)."},
     {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)),
      METH_VARARGS | METH_KEYWORDS,
      "slice(params, axis, offset, width, height, lod=False, threads=0)\n--\n\n"

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cloudgen/camera.h"
 #include "cloudgen/model.h"
 #include "cloudgen/parallel.h"
 
@@ -32,6 +33,8 @@ struct GridSpec {
 // Cubic voxels, `resolution` of them along the longest box side; the grid is
 // centred on the box (it may overhang a shorter side by less than a voxel).
 GridSpec grid_for_box(const Model& m, int resolution);
+// The same for a given voxel edge (scene units, > 0).
+GridSpec grid_for_voxel(const Model& m, float voxel);
 
 struct BakeOptions {
   int resolution = 128;
@@ -39,7 +42,12 @@ struct BakeOptions {
   bool lod = true;         // do not evaluate octaves finer than a voxel can hold
   float tolerance = 0.0f;  // voxels with density <= tolerance are dropped (background 0)
   int threads = 0;         // 0 = one per hardware thread
+  float voxel = 0.0f;      // > 0: this voxel edge instead of `resolution` (camera-aware bake)
+  bool use_region = false; // bake only tiles that meet `region` (camera-aware bake)
+  Frustum region{};
 };
+
+GridSpec bake_grid(const Model& m, const BakeOptions& options);
 
 struct Tile {
   std::array<int, 3> index;  // voxel index of the tile's first voxel
@@ -47,7 +55,7 @@ struct Tile {
 };
 
 struct BakeStats {
-  std::int64_t tiles_total = 0, tiles_skipped = 0, tiles_evaluated = 0, tiles_kept = 0;
+  std::int64_t tiles_total = 0, tiles_skipped = 0, tiles_culled = 0, tiles_evaluated = 0, tiles_kept = 0;
   std::int64_t voxels_evaluated = 0, voxels_active = 0;
   float lod_worley_octaves = 0, lod_perlin_octaves = 0;
 };
