@@ -314,15 +314,15 @@ int cmd_bake(const std::vector<std::string>& argv) {
     const Job& job = jobs[fi];
     const Planned& p = plan[fi];
     if (cancel_requested()) throw cg::Cancelled();
-    if (const auto it = done.find(p.key); it != done.end()) {
-      copy_atomically(it->second->path, job.path);
-      std::printf("copied %s (same field as frame %lld)\n", job.path.c_str(), it->second->frame);
-      std::fflush(stdout);
-      continue;
-    }
     if (update && stored_bake_key(job.path) == p.key) {
       done.emplace(p.key, &job);
       std::printf("kept %s (unchanged)\n", job.path.c_str());
+      std::fflush(stdout);
+      continue;
+    }
+    if (const auto it = done.find(p.key); it != done.end()) {
+      copy_atomically(it->second->path, job.path);
+      std::printf("copied %s (same field as frame %lld)\n", job.path.c_str(), it->second->frame);
       std::fflush(stdout);
       continue;
     }

@@ -7,32 +7,19 @@ hangs at exit while an operator class is registered (NOTES.md).
 Without bpy the directory is skipped, unless CLOUDGEN_REQUIRE_BPY=1.
 """
 import pathlib
-import subprocess
-import sys
 
 import pytest
+
+import addon_package
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 ADDON_PARENT = ROOT / "build" / "addon"
 PACKAGE = ADDON_PARENT / "cloudgen"
 
 
-
-def _package_is_stale():
-    init = PACKAGE / "__init__.py"
-    if not init.exists():
-        return True
-    built = init.stat().st_mtime
-    sources = list((ROOT / "addon").iterdir()) + list((ROOT / "osl").glob("*"))
-    return any(f.stat().st_mtime > built for f in sources if f.is_file())
-
-
 @pytest.fixture(scope="session")
 def package():
-    if _package_is_stale():
-        subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py")], check=True)
-    if str(ADDON_PARENT) not in sys.path:
-        sys.path.insert(0, str(ADDON_PARENT))
+    addon_package.ensure()
     return PACKAGE
 
 

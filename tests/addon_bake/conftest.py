@@ -4,25 +4,15 @@ bpy wheel (Blender 4.5 in .venv) against the packaged add-on build/addon/cloudge
 CLOUDGEN_REQUIRE_BPY=1. Every class registered here is unregistered in teardown
 (the 4.5 wheel hangs at exit while an operator class is registered)."""
 import pathlib
-import subprocess
-import sys
 
 import pytest
+
+import addon_package
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 ADDON_PARENT = ROOT / "build" / "addon"
 PACKAGE = ADDON_PARENT / "cloudgen"
 HERE = pathlib.Path(__file__).parent
-
-
-
-def _package_is_stale():
-    init = PACKAGE / "__init__.py"
-    if not init.exists() or not (PACKAGE / "bake.py").exists():
-        return True
-    built = init.stat().st_mtime
-    sources = list((ROOT / "addon").iterdir()) + list((ROOT / "osl").glob("*"))
-    return any(f.stat().st_mtime > built for f in sources if f.is_file())
 
 
 def _raise(exc):
@@ -36,10 +26,7 @@ def bake_addon():
     import addon_utils
     import bpy
 
-    if _package_is_stale():
-        subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py")], check=True)
-    if str(ADDON_PARENT) not in sys.path:
-        sys.path.insert(0, str(ADDON_PARENT))
+    addon_package.ensure()
     mod = addon_utils.enable("cloudgen", default_set=False, handle_error=_raise)
     assert mod is not None, "addon_utils.enable('cloudgen') failed"
     from cloudgen import bake
