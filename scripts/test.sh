@@ -23,4 +23,4 @@ ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:hal
   CLOUDGEN_TEST_SCALE=sanitize ctest --test-dir build-sanitize --output-on-failure --parallel "$(nproc)"
 
 echo "== Python tests (module, CLI, round trips), Blender tests (bpy 4.5: OSL, parity, render, add-on, bake) and batch tests (Debian Blender 3.4)"
-CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/blender tests/addon tests/addon_bake tests/batch
+CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/bench tests/blender tests/addon tests/addon_bake tests/batch
