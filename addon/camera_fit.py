@@ -14,7 +14,9 @@ package, so a script can put this folder on sys.path and `import camera_fit`
                      removed) @ camera.matrix_world with scale removed,
   "tan_half_fov": [tan(horizontal half angle), tan(vertical half angle)],
   "resolution": [w, h]  (pixels after the render percentage),
-  "margin": 0.5, "pixels_per_voxel": 1.0
+  "near": clip start, "pixels_per_voxel": 1.0,
+  "light_directions": [[x, y, z], ...]  (towards each visible sun lamp, cloud frame; at most 4),
+  "margin": only when given (else the CLI's default, docs/camera.md)
 }
 
 Field of view follows Blender's sensor fit (BKE_camera_params_compute_viewplane):
@@ -28,7 +30,8 @@ from __future__ import annotations
 
 import math
 
-DEFAULT_MARGIN = 0.5
+DEFAULT_MARGIN = None  # the CLI's optical-depth default (docs/camera.md)
+MAX_LIGHTS = 4
 DEFAULT_PIXELS_PER_VOXEL = 1.0
 _TYPE_NAMES = {"ORTHO": "orthographic", "PANO": "panoramic", "PERSP": "perspective"}
 
@@ -70,6 +73,25 @@ def camera_to_cloud(camera_obj, cloud_obj):
     return _rigid(cloud_obj.matrix_world).inverted() @ _rigid(camera_obj.matrix_world)
 
 
+def sun_directions(scene, cloud_obj, warnings=None):
+    """Unit directions towards the scene's visible sun lamps in the cloud's frame
+    (a sun shines along its local -Z). At most MAX_LIGHTS; more add a warning and
+    the bake keeps the view margin only for the rest."""
+    rot = _rigid(cloud_obj.matrix_world).to_3x3().inverted()
+    out = []
+    for obj in scene.objects:
+        if obj.type != "LIGHT" or obj.data.type != "SUN" or obj.hide_render:
+            continue
+        towards = rot @ (_rigid(obj.matrix_world).to_3x3().col[2])
+        if towards.length > 1e-9:
+            out.append([float(v) for v in towards.normalized()])
+    if len(out) > MAX_LIGHTS:
+        if warnings is not None:
+            warnings.append(f"{len(out)} sun lamps: Fit to Camera follows the shadows of the first {MAX_LIGHTS}")
+        out = out[:MAX_LIGHTS]
+    return out
+
+
 def camera_json(scene, camera_obj, cloud_obj, warnings=None, margin=DEFAULT_MARGIN,
                 pixels_per_voxel=DEFAULT_PIXELS_PER_VOXEL) -> dict:
     """CAMERA.json contents for baking cloud_obj as seen by camera_obj in scene.
@@ -90,13 +112,17 @@ def camera_json(scene, camera_obj, cloud_obj, warnings=None, margin=DEFAULT_MARG
     w, h = render_resolution(scene)
     tx, ty = tan_half_fov(cam, w, h)
     m = camera_to_cloud(camera_obj, cloud_obj)
-    return {
+    data = {
         "camera_to_cloud": [[float(m[i][j]) for j in range(4)] for i in range(4)],
         "tan_half_fov": [float(tx), float(ty)],
         "resolution": [int(w), int(h)],
-        "margin": float(margin),
+        "near": float(max(cam.clip_start, 1e-6)),
         "pixels_per_voxel": float(pixels_per_voxel),
+        "light_directions": sun_directions(scene, cloud_obj, warnings),
     }
+    if margin is not None:
+        data["margin"] = float(margin)
+    return data
 
 
 def project(data: dict, point_local):

@@ -109,7 +109,8 @@ def test_hand_computed_case(camera_fit):
     expect = [[1, 0, 0, 0], [0, 0, -1, -10], [0, 1, 0, 0], [0, 0, 0, 1]]
     for row, exp in zip(data["camera_to_cloud"], expect):
         assert row == pytest.approx(exp, abs=1e-6)
-    assert data["margin"] == 0.5 and data["pixels_per_voxel"] == 1.0
+    assert "margin" not in data and data["pixels_per_voxel"] == 1.0, data  # margin: the CLI's default
+    assert data["light_directions"] == [] and data["near"] == pytest.approx(cam.data.clip_start), data
     # by hand: centre at the image centre, depth 10; corner (2, -2, 1.5) at depth 8:
     # u = 0.5 + 0.5 * (2 / 8) / 0.36, v = 0.5 + 0.5 * (1.5 / 8) / 0.2025
     assert camera_fit.project(data, (0, 0, 0)) == pytest.approx((0.5, 0.5, 10.0), abs=1e-6)
@@ -165,3 +166,30 @@ def test_shift_warns_and_other_types_fail(camera_fit):
         camera_fit.camera_json(sc, None, cloud)
     with pytest.raises(ValueError, match="not a camera"):
         camera_fit.camera_json(sc, cloud, cloud)
+
+
+def test_sun_lamps_become_light_directions_in_the_cloud_frame(camera_fit):
+    """A sun shines along its local -Z: the direction towards it is its +Z axis,
+    expressed in the cloud's (rotated) frame; hidden suns and point lamps do not count."""
+    import bpy
+
+    sc = _empty_scene((64, 48), 50)
+    cloud = _cube(sc, "Cloud", scale=(4, 4, 3))
+    cloud.rotation_euler = (0.0, 0.0, math.radians(90))
+    cam = _camera(sc, (0.0, -10.0, 0.0), (math.radians(90), 0.0, 0.0))
+    for name, kind, rot, hidden in (("Sun", "SUN", (0.0, 0.0, 0.0), False),
+                                    ("Tilted", "SUN", (math.radians(90), 0.0, 0.0), False),
+                                    ("Hidden", "SUN", (0.0, 0.0, 0.0), True),
+                                    ("Point", "POINT", (0.0, 0.0, 0.0), False)):
+        obj = bpy.data.objects.new(name, bpy.data.lights.new(name, kind))
+        obj.rotation_euler = rot
+        obj.hide_render = hidden
+        sc.collection.objects.link(obj)
+    bpy.context.view_layer.update()
+    dirs = sorted(camera_fit.camera_json(sc, cam, cloud)["light_directions"])
+    # overhead sun: +z; tilted 90° about x: its +Z points to world -y; the cloud,
+    # turned 90° about z, has its +x along world +y, so that is its -x
+    expect = sorted([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])
+    assert len(dirs) == 2, dirs
+    for got, exp in zip(dirs, expect):
+        assert got == pytest.approx(exp, abs=1e-6), (dirs, "tolerance 1e-6")
