@@ -14,7 +14,8 @@ package, so a script can put this folder on sys.path and `import camera_fit`
                      removed) @ camera.matrix_world with scale removed,
   "tan_half_fov": [tan(horizontal half angle), tan(vertical half angle)],
   "resolution": [w, h]  (pixels after the render percentage),
-  "near": clip start, "pixels_per_voxel": 1.0,
+  "near": clip start,
+  "pixels_per_voxel": only when given (else the quality tier's, else 1),
   "light_directions": [[x, y, z], ...]  (towards each visible sun lamp, cloud frame; at most 4),
   "margin": only when given (else the CLI's default, docs/camera.md)
 }
@@ -32,7 +33,7 @@ import math
 
 DEFAULT_MARGIN = None  # the CLI's optical-depth default (docs/camera.md)
 MAX_LIGHTS = 4
-DEFAULT_PIXELS_PER_VOXEL = 1.0
+DEFAULT_PIXELS_PER_VOXEL = None  # the quality tier's (cloudgen tiers), else 1
 _TYPE_NAMES = {"ORTHO": "orthographic", "PANO": "panoramic", "PERSP": "perspective"}
 
 
@@ -117,11 +118,12 @@ def camera_json(scene, camera_obj, cloud_obj, warnings=None, margin=DEFAULT_MARG
         "tan_half_fov": [float(tx), float(ty)],
         "resolution": [int(w), int(h)],
         "near": float(max(cam.clip_start, 1e-6)),
-        "pixels_per_voxel": float(pixels_per_voxel),
         "light_directions": sun_directions(scene, cloud_obj, warnings),
     }
     if margin is not None:
         data["margin"] = float(margin)
+    if pixels_per_voxel is not None:
+        data["pixels_per_voxel"] = float(pixels_per_voxel)
     return data
 
 

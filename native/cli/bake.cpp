@@ -47,7 +47,8 @@ const char* const kBakeHelp =
     "  --resolution N      voxels along the longest box side, cubic voxels, N in [1, 1000000];\n"
     "                      with --camera the upper limit of what the camera may ask for\n"
     "  --quality TIER      take resolution, LOD, tolerance and half floats from a quality\n"
-    "                      tier (see `cloudgen tiers`); explicit options win\n"
+    "                      tier (see `cloudgen tiers`); explicit options win; with --camera\n"
+    "                      the tier's pixels per voxel unless the camera file sets them\n"
     "  --camera FILE.json  camera-aware bake (docs/camera.md): voxel = one pixel's footprint\n"
     "                      at the nearest visible point of the box, octaves capped there,\n"
     "                      only the view frustum plus a shadow margin baked\n"
@@ -244,6 +245,8 @@ int cmd_bake(const std::vector<std::string>& argv) {
   if (a.has("--camera")) {
     const std::string file = *a.get("--camera");
     camera = cg::parse_camera(read_text_file(file, "--camera"), "--camera " + file);
+    if (camera->pixels_per_voxel <= 0.0f && a.has("--quality"))
+      camera->pixels_per_voxel = cg::find_tier(*a.get("--quality"))->bake_pixels_per_voxel;
   }
   const bool have_resolution = a.has("--resolution");
   if (have_resolution) opts.resolution = static_cast<int>(a.integer("--resolution", 1, kMaxResolution));

@@ -229,10 +229,10 @@ int cmd_tiers(const std::vector<std::string>& argv) {
   }
   for (const cg::Tier& t : cg::tiers()) {
     std::printf("%-8s %s\n", t.name.c_str(), t.description.c_str());
-    std::printf("%-8s render: %d samples, step rate %g; bake: resolution %d, lod %s, tolerance %g, %s floats; "
-                "preview %d px\n",
+    std::printf("%-8s render: %d samples, step rate %g; bake: resolution %d, lod %s, tolerance %g, %s floats, "
+                "%g px/voxel with --camera; preview %d px\n",
                 "", t.render_samples, t.render_step_rate, t.bake_resolution, t.bake_lod ? "on" : "off",
-                t.bake_tolerance, t.bake_half ? "half" : "full", t.preview_size);
+                t.bake_tolerance, t.bake_half ? "half" : "full", t.bake_pixels_per_voxel, t.preview_size);
   }
   return kExitOk;
 }

@@ -227,7 +227,7 @@ CameraFit fit_camera(const Model& m, const CameraView& c) {
   fit.nearest_depth = std::max(nearest, c.near_clip);
   fit.footprint = 2.0f * fit.nearest_depth *
                   std::min(c.tan_half_fov[0] / float(c.resolution[0]), c.tan_half_fov[1] / float(c.resolution[1]));
-  fit.voxel = fit.footprint * c.pixels_per_voxel;
+  fit.voxel = fit.footprint * (c.pixels_per_voxel > 0.0f ? c.pixels_per_voxel : 1.0f);
   return fit;
 }
 

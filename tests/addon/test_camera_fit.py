@@ -109,7 +109,7 @@ def test_hand_computed_case(camera_fit):
     expect = [[1, 0, 0, 0], [0, 0, -1, -10], [0, 1, 0, 0], [0, 0, 0, 1]]
     for row, exp in zip(data["camera_to_cloud"], expect):
         assert row == pytest.approx(exp, abs=1e-6)
-    assert "margin" not in data and data["pixels_per_voxel"] == 1.0, data  # margin: the CLI's default
+    assert "margin" not in data and "pixels_per_voxel" not in data, data  # the CLI's / tier's defaults
     assert data["light_directions"] == [] and data["near"] == pytest.approx(cam.data.clip_start), data
     # by hand: centre at the image centre, depth 10; corner (2, -2, 1.5) at depth 8:
     # u = 0.5 + 0.5 * (2 / 8) / 0.36, v = 0.5 + 0.5 * (1.5 / 8) / 0.2025

@@ -22,7 +22,7 @@ struct CameraView {
   int resolution[2] = {320, 240};          // image pixels
   float near_clip = 0.1f;                  // scene units in front of the camera
   float margin = -1.0f;                    // scene units; < 0: default_margin()
-  float pixels_per_voxel = 1.0f;           // voxel edge in pixel footprints at the nearest visible point
+  float pixels_per_voxel = 0.0f;           // voxel edge in pixel footprints at the nearest visible point (0: 1)
   int light_count = 0;                     // directions towards the lights (sun), cloud frame
   std::array<vec3, 4> lights{};
 };
