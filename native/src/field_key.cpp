@@ -31,11 +31,24 @@ struct Fnv1a {
   void v3(const vec3& v) { f(v[0]), f(v[1]), f(v[2]); }
 };
 
+std::string hex(std::uint64_t v) {
+  static const char* const digits = "0123456789abcdef";
+  std::string out(16, '0');
+  for (int k = 0; k < 16; ++k) out[k] = digits[(v >> (60 - 4 * k)) & 0xf];
+  return out;
+}
+
 }  // namespace
 
 std::string field_key(const Model& m) {
   Fnv1a h;
   h.i(kFieldKeyVersion);
+  if (!(m.density > 0.0f)) {
+    // Density 0 (eq. 3.4's factor) zeroes the field everywhere: every such
+    // parameter set has one key, whatever the shape and noise.
+    h.i(0x7a65726f);
+    return hex(h.h);
+  }
   h.v3(m.box);
   h.f(m.cloud_scale);
   h.i(m.shape_mode);
@@ -51,11 +64,7 @@ std::string field_key(const Model& m) {
   for (float v : {m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail, m.noise_whisp})
     h.f(v);
   h.i(m.seed);
-  char out[17];
-  static const char* const digits = "0123456789abcdef";
-  for (int k = 0; k < 16; ++k) out[k] = digits[(h.h >> (60 - 4 * k)) & 0xf];
-  out[16] = '\0';
-  return out;
+  return hex(h.h);
 }
 
 std::string field_key(const Params& p) { return field_key(prepare(p)); }

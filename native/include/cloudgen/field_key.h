@@ -1,8 +1,11 @@
 // cloudgen/field_key.h — 16 hex digits that identify a density field.
 //
 // Equal keys mean equal fields (the key hashes everything the kernel reads,
-// see field_key.cpp); a sequence bake copies a frame whose key it has baked
-// already, and `bake --update` keeps a file whose stored key is unchanged.
+// see field_key.cpp). Different keys mean different parameters as the kernel
+// sees them; the fields then differ too except in degenerate cases the key
+// folds (density 0: one key for every empty field). A sequence bake copies a
+// frame whose key it has baked already, and `bake --update` keeps a file
+// whose stored key is unchanged.
 #pragma once
 
 #include <string>
