@@ -11,12 +11,14 @@ Writes the image atomically.
 
 The Principled Volume takes the preset's material settings ("material" in
 native/presets/clouds.json: anisotropy, color, step_rate); --step-rate
-overrides the step rate. With --vdb the same scene renders a baked VDB (`cloudgen
-bake` of the same parameters) instead of the procedural material: a Volume
-object at the box's centre (the grid is in the cloud's local frame, scene units)
-whose Principled Volume (same colour and anisotropy) reads the grid `density`
-and steps at the voxel size (material step rate 1, as the add-on's bake does;
---step-rate overrides it); OSL is off (the VDB needs no script nodes). The camera is placed from the box and the lens
+overrides the step rate. With --vdb the same scene renders a baked VDB
+(`cloudgen bake` of the same parameters) instead of the procedural material: a
+Volume object at the box's centre (the grid is in the cloud's local frame,
+scene units) whose Principled Volume (same colour and anisotropy) takes the
+grid `density` through its Density Attribute (Density 1) and steps at the
+voxel size (material step rate 1, as the add-on's bake does; --step-rate
+overrides it); OSL is off (the VDB needs no script nodes). The camera is
+placed from the box and the lens
 (`frame_camera`): a compact or tall cloud is seen from the side, slightly
 below its middle, far enough back that the whole box fits; a layer cloud (a
 box much wider than tall) is lifted overhead and seen from below at an angle,
@@ -129,9 +131,10 @@ def build_scene(values, args):
     out = nt.nodes.new("ShaderNodeOutputMaterial")
     nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
     if vdb:
-        grid = nt.nodes.new("ShaderNodeAttribute")
-        grid.attribute_name = "density"
-        nt.links.new(grid.outputs["Fac"], volume.inputs["Density"])
+        # the Principled Volume multiplies Density by its Density Attribute, "density" by
+        # default: the grid, so Density stays 1 (linking the grid in too would square it)
+        volume.inputs["Density"].default_value = 1.0
+        volume.inputs["Density Attribute"].default_value = "density"
         step = getattr(args, "step_rate", None)
         mat.cycles.volume_step_rate = 1.0 if step is None else step  # a VDB steps at its voxel size
         cloud = vdb_object(vdb, cloud, mat)

@@ -74,6 +74,7 @@ KNOBS = [
     {"knob": "camera_aware", "settings": ["ppv=1", "ppv=2", "ppv=4"], "quick": ["ppv=2"]},
 ]
 TOLERANCE_AT, SKIP_AT = 128, 128
+VDB_MATERIAL = 2  # render_cloud.py --vdb shader version (1 squared the density): part of the cache key
 QUICK_AT = 64
 
 
@@ -119,7 +120,7 @@ def make_points(knob, setting, scene, cfg):
               "seed": scenes.SWEEP_SEED, "size": list(cfg["size"])}
     P = lambda label, **kw: dict({"knob": knob, "setting": setting, "label": label,  # noqa: E731
                                   "blender": "4.5", "render": dict(render), "bake": None, "field": None}, **kw)
-    vdb = dict(render, source="vdb")
+    vdb = dict(render, source="vdb", vdb_material=VDB_MATERIAL)
     if knob == "procedural":
         return [P(f"Procedural OSL ({base['samples']} spp)")]
     if knob == "bake_resolution":
@@ -161,7 +162,8 @@ def make_points(knob, setting, scene, cfg):
                       tolerance=tb.get("tolerance", 0.0), quality=setting)
         r = dict(render, samples=int(tr["samples"]), step_rate=float(tr["step_rate"]))
         name = t.get("label", setting)
-        return [P(f"{name} (VDB {tb['resolution']}³, {tr['samples']} spp)", render=dict(r, source="vdb"),
+        return [P(f"{name} (VDB {tb['resolution']}³, {tr['samples']} spp)",
+                  render=dict(r, source="vdb", vdb_material=VDB_MATERIAL),
                   bake=b, field={"kind": "bake", **b}, variant="vdb"),
                 P(f"{name} (procedural, {tr['samples']} spp)", render=r, variant="procedural")]
     if knob == "camera_aware":
@@ -366,6 +368,7 @@ def reference(scene, blender="4.5", force=False):
             return c, metrics.load_exr(avg_path)
     log(f"[{scene}] reference (Blender {blender}): {spec}")
     imgs, times, peaks = [], [], []
+    load = [round(x, 2) for x in os.getloadavg()]
     for seed in scenes.REF_SEEDS:
         out = img_dir / f"ref{suffix}_seed{seed}.exr"
         r = render(scene, dict(spec, seed=seed), out, blender, 1)
@@ -383,7 +386,7 @@ def reference(scene, blender="4.5", force=False):
          "noise_rmse": nf["noise_rmse"], "noise_flip": nf["noise_flip"],
          "reference_rmse": nf.get("reference_rmse"), "render_s": max(times), "render_s_all": times,
          "peak_mib": max(peaks), "image": rel(avg_path), "blender": blender, "version": CFG["versions"][blender],
-         "mean_radiance": float(avg.mean())}
+         "mean_radiance": float(avg.mean()), "load_before": load}
     write_json(cache, c)
     log(f"[{scene}] reference: noise rmse {c['noise_rmse']:.4f} flip {c['noise_flip']:.4f}")
     return c, avg
@@ -427,7 +430,7 @@ def measure_point(scene, pt, force):
     log(f"[{scene}] {pt['knob']} {pt['setting']}{' ' + pt['variant'] if pt.get('variant') else ''}"
         + (f" (= {res['same_as']})" if res else ""))
     if res is None:
-        res = {}
+        res = {"load_before": [round(x, 2) for x in os.getloadavg()]}
         work = pathlib.Path(tempfile.mkdtemp(prefix="cloudgen-acc-"))
         try:
             vdb = None
@@ -480,7 +483,7 @@ def measure_point(scene, pt, force):
 POINT_KEYS = ["knob", "setting", "label", "blender", "variant", "render_s", "render_s_all", "bake_s",
               "bake_s_all", "time_s", "peak_mib", "bake_peak_mib", "file_mib", "rmse", "flip", "field_rms",
               "field_max", "field_range", "same_as", "image", "bake_cmd", "field_lod", "voxel", "grid", "camera_voxel",
-              "visible_tiles", "total_tiles", "slice_s", "slice_s_all", "slice_size", "field_note",
+              "visible_tiles", "total_tiles", "load_before", "slice_s", "slice_s_all", "slice_size", "field_note",
               "measured_at"]
 
 
@@ -532,7 +535,7 @@ def write_results():
                 r = json.loads((d / fname).read_text())
                 ref = {k: r.get(k) for k in ("samples", "step_rate", "volume_biased", "seeds", "noise_rmse",
                                              "noise_flip", "reference_rmse", "render_s", "render_s_all",
-                                             "peak_mib", "image", "mean_radiance")}
+                                             "peak_mib", "image", "mean_radiance", "load_before")}
                 entry["reference" if blender == "4.5" else "reference_50"] = ref
                 out["blender"][blender] = r.get("version")
         pts = []
