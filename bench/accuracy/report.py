@@ -110,8 +110,8 @@ def id_of(p):
 # ---------------------------------------------------------------- tables --
 
 POINT_HEAD = ("| Scene | Setting | Blender | Time s (bake+render) | Render s | Bake s | Peak MiB | File MiB "
-              "| RMSE | FLIP | Field RMS / max | Pareto |\n"
-              "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|---|")
+              "| RMSE | FLIP | Matched RMSE / FLIP | Field RMS / max | Pareto |\n"
+              "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|")
 
 
 def point_row(scene, p, front, knee_id):
@@ -119,9 +119,11 @@ def point_row(scene, p, front, knee_id):
     where = "knee" if pid == knee_id else ("front" if pid in front else "")
     field = "—" if num(p, "field_rms") is None and num(p, "field_max") is None else \
         f"{fmt(num(p, 'field_rms'))} / {fmt(num(p, 'field_max'))}"
+    matched = "—" if num(p, "matched_rmse") is None else \
+        f"{fmt(num(p, 'matched_rmse'))} / {fmt(num(p, 'matched_flip'))}"
     return (f"| {scene} | {label(p)} | {p.get('blender', '—')} | {fmt(point_time(p))} | {fmt(num(p, 'render_s'))} "
             f"| {fmt(num(p, 'bake_s'))} | {fmt(num(p, 'peak_mib'))} | {fmt(num(p, 'file_mib'))} "
-            f"| {fmt(num(p, 'rmse'))} | {fmt(num(p, 'flip'))} | {field} | {where} |")
+            f"| {fmt(num(p, 'rmse'))} | {fmt(num(p, 'flip'))} | {matched} | {field} | {where} |")
 
 
 def knob_table(results, knob, fronts):
@@ -174,7 +176,11 @@ def camera_rows(results):
             same = [p for p in pts if p.get("knob") == "bake_resolution" and p.get("blender") == cam.get("blender")]
             uniform = same or [p for p in pts if p.get("knob") == "bake_resolution"]
             uniform = [p for p in uniform if p["time_s"] is not None]
-            metrics = [m for m in ("flip", "rmse") if num(cam, m) is not None]
+            # Matched errors (same seed as the procedural baseline) isolate the bake's
+            # own error from render noise; use them when every point has them.
+            matched = all(num(p, "matched_flip") is not None for p in [cam] + uniform)
+            choice = ("matched_flip", "matched_rmse") if matched else ("flip", "rmse")
+            metrics = [m for m in choice if num(cam, m) is not None]
             t_cam = cam["time_s"]
             row = {"scene": name, "cam": cam, "time": None, "how": "", "ratio": None}
             if not metrics or not uniform or not t_cam:
@@ -202,14 +208,15 @@ def camera_table(results):
     rows = camera_rows(results)
     if not rows:
         return ""
-    out = ["| Scene | Camera-aware | Blender | Time s | FLIP | RMSE | Uniform time s at equal error "
-           "| Ratio (uniform / camera-aware) | How the uniform time was found |",
-           "|---|---|---|--:|--:|--:|--:|--:|---|"]
+    out = ["| Scene | Camera-aware | Blender | Time s | FLIP | RMSE | Matched FLIP / RMSE "
+           "| Uniform time s at equal error | Ratio (uniform / camera-aware) | How the uniform time was found |",
+           "|---|---|---|--:|--:|--:|--:|--:|--:|---|"]
     for r in rows:
         c = r["cam"]
         ratio = f"×{fmt(r['ratio'], 2)}" if r["ratio"] else "—"
+        m = "—" if num(c, "matched_flip") is None else f"{fmt(num(c, 'matched_flip'))} / {fmt(num(c, 'matched_rmse'))}"
         out.append(f"| {r['scene']} | {label(c)} | {c.get('blender', '—')} | {fmt(c['time_s'])} | "
-                   f"{fmt(num(c, 'flip'))} | {fmt(num(c, 'rmse'))} | {fmt(r['time'])} | {ratio} | {r['how']} |")
+                   f"{fmt(num(c, 'flip'))} | {fmt(num(c, 'rmse'))} | {m} | {fmt(r['time'])} | {ratio} | {r['how']} |")
     return "\n".join(out)
 
 
@@ -244,6 +251,13 @@ def method_section(results, images):
             "the seed. *Noise RMSE / FLIP* compare the two seed renders; the reference's own error is about "
             "noise RMSE / 2 (the average of two independent renders has 1/√2 of their noise, and their difference "
             "√2 of it). Errors near that level are not resolved.", "",
+            "**Matched errors.** A render at the swept 64 samples carries more noise than most knobs' bias. "
+            "Every swept render uses the same seed. Cycles then draws the same random numbers, so two renders of "
+            "nearly the same scene have nearly the same noise (common random numbers). *Matched RMSE / FLIP* "
+            "compare a point with its baseline, the procedural render at the same render settings and seed "
+            "(for the step rate: the finest step). That isolates the knob's own error: the bake's resolution, "
+            "tolerance or precision, the missing octaves. It is what the camera-aware comparison uses. The "
+            "sample count has no baseline, because its error is the noise itself.", "",
             "| Scene | Reference | Seeds | Render s | Noise RMSE | Reference RMSE ≈ | Noise FLIP |",
             "|---|---|---|--:|--:|--:|--:|"]
     for name, scene in (results.get("scenes") or {}).items():
@@ -276,7 +290,8 @@ def render_markdown(results, images=None):
     if cam:
         parts.append("## Camera-aware bake against uniform bakes\n\n"
                      "For each camera-aware bake: the cheapest uniform bake (knob *bake_resolution*, same Blender) "
-                     "whose FLIP and RMSE are both ≤ the camera-aware bake's. When there is none, the time a uniform "
+                     "whose FLIP and RMSE are both ≤ the camera-aware bake's. These are the matched errors when "
+                     "every point has them, so render noise does not decide. When there is none, the time a uniform "
                      "bake would need is estimated per measure by linear interpolation of the error against "
                      "log(time) between the two nearest uniform points of its Pareto front (extrapolation when the "
                      "camera-aware bake is better than every uniform bake), and the larger of the two times is "
