@@ -53,6 +53,10 @@ def parse_args(argv):
     ap.add_argument("--threads", type=int, default=0, help="render threads (0 = all)")
     ap.add_argument("--no-early-exit", action="store_true",
                     help="compile Cloud Main without its early exit (benchmarking only)")
+    ap.add_argument("--zoom", type=float, default=1.0,
+                    help="multiply the framed camera's focal length (a close-up; default 1)")
+    ap.add_argument("--aim", default=None,
+                    help="with --zoom: aim at this point of the box, generated coordinates X,Y,Z in [0, 1]")
     ap.add_argument("--vdb", default=None,
                     help="render this baked VDB (grid `density`, cloud-local frame) instead of the procedural material")
     return ap.parse_args(argv)
@@ -154,6 +158,9 @@ def build_scene(values, args):
     cam.location, cam.rotation_euler = location, rotation
     cloud.location.z = cloud_z
     scene.camera = cam
+    zoom = getattr(args, "zoom", 1.0) or 1.0
+    if zoom != 1.0 or getattr(args, "aim", None):
+        aim_camera(cam, box, cloud_z, zoom, args.aim)
 
     sun_data = bpy.data.lights.new("Sun", "SUN")
     sun_data.energy = 6.0
@@ -169,6 +176,19 @@ def build_scene(values, args):
     bg.inputs["Strength"].default_value = 0.8
     scene.world = world
     return scene
+
+
+def aim_camera(cam, box, cloud_z, zoom, aim):
+    """A close-up from the framed position: the focal length times `zoom`, turned
+    to look at `aim` ("X,Y,Z" generated box coordinates; default the centre)."""
+    from mathutils import Vector
+
+    g = [0.5, 0.5, 0.5] if not aim else [float(v) for v in aim.split(",")]
+    if len(g) != 3 or not all(0.0 <= v <= 1.0 for v in g) or zoom <= 0:
+        raise SystemExit(f"render_cloud: --aim needs X,Y,Z in [0, 1] and --zoom > 0; got {aim!r}, {zoom}")
+    target = Vector(((g[0] - 0.5) * box[0], (g[1] - 0.5) * box[1], cloud_z + (g[2] - 0.5) * box[2]))
+    cam.data.lens *= zoom
+    cam.rotation_euler = (target - cam.location).to_track_quat("-Z", "Y").to_euler()
 
 
 def vdb_object(path, box_obj, mat):
