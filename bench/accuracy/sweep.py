@@ -68,10 +68,10 @@ KNOBS = [
     {"knob": "skip_empty", "settings": ["on@128", "off@128"], "quick": ["off@64"]},
     {"knob": "noise_detail", "settings": ["1", "2", "3", "4", "preset"], "quick": ["2", "preset"]},
     {"knob": "preview_resolution", "settings": ["64", "128", "256", "512", "1024"], "quick": ["64", "256"]},
-    {"knob": "volume_biased", "settings": ["biased", "unbiased"], "quick": ["biased", "unbiased"],
-     "scenes": ["cumulus"]},
     {"knob": "tier", "settings": "tiers", "quick": ["draft"]},
     {"knob": "camera_aware", "settings": ["ppv=1", "ppv=2", "ppv=4"], "quick": ["ppv=2"]},
+    {"knob": "volume_biased", "settings": ["biased", "unbiased"], "quick": ["biased", "unbiased"],
+     "scenes": ["cumulus"]},
 ]
 TOLERANCE_AT, SKIP_AT = 128, 128
 VDB_MATERIAL = 2  # render_cloud.py --vdb shader version (1 squared the density): part of the cache key
