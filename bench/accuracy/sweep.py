@@ -270,6 +270,7 @@ def render_cmd(scene, spec, output, blender="4.5", vdb=None, params_file=None):
     if spec.get("volume_biased"):
         cmd += ["--volume-biased", spec["volume_biased"]]
     cmd += (["--params", params_file] if params_file else ["--preset", scenes.SCENES[scene]["preset"]])
+    cmd += scenes.SCENES[scene].get("render_args", [])
     cmd += ["--size", scenes.size_arg(spec["size"]), "--samples", spec["samples"], "--seed", spec["seed"],
             "--output", output]
     if vdb:
@@ -337,13 +338,13 @@ def export_camera(scene, path, ppv, margin):
     code = (
         "import sys, json, os; sys.path[:0] = [%r, %r]\n"
         "import bpy, render_cloud, camera_fit\n"
-        "a = render_cloud.parse_args(['--preset', %r, '--size', %r, '--output', 'x.exr'])\n"
+        "a = render_cloud.parse_args(['--preset', %r, '--size', %r, '--output', 'x.exr'] + %r)\n"
         "s = render_cloud.build_scene(render_cloud.resolve_params(a), a)\n"
         "bpy.context.view_layer.update()  # matrix_world of the camera just placed\n"
         "d = camera_fit.camera_json(s, s.camera, bpy.data.objects['Cloud'], margin=%r, pixels_per_voxel=%r)\n"
         "open(%r, 'w').write(json.dumps(d, indent=1)); sys.stdout.flush(); os._exit(0)\n"
     ) % (str(ROOT / "scripts"), str(ROOT / "addon"), scenes.SCENES[scene]["preset"],
-         scenes.size_arg(CFG["size"]), margin, ppv, str(path))
+         scenes.size_arg(CFG["size"]), list(scenes.SCENES[scene].get("render_args", [])), margin, ppv, str(path))
     rc, out, err, _, _ = run_child([PY45, "-c", code])
     if rc != 0 or not pathlib.Path(path).exists():
         raise RuntimeError(f"camera export failed: {err[-2000:]}")
@@ -359,6 +360,8 @@ def reference(scene, blender="4.5", force=False):
     else:
         rs = scenes.QUICK_REFERENCE_50 if QUICK else scenes.REFERENCE_50[scene]
     spec = dict(rs, size=list(CFG["size"]), seeds=list(scenes.REF_SEEDS), blender=blender, source="procedural")
+    if scenes.SCENES[scene].get("render_args"):
+        spec["scene_args"] = list(scenes.SCENES[scene]["render_args"])
     cache = CFG["cache"] / scene / f"reference{suffix}.json"
     img_dir = CFG["images"] / scene
     avg_path = img_dir / f"ref{suffix}.exr"
@@ -403,9 +406,11 @@ def measure_point(scene, pt, force):
     cache = CFG["cache"] / scene / f"{name}.json"
     spec = {k: pt[k] for k in ("render", "bake", "field", "blender")}
     spec["preset"] = scenes.SCENES[scene]["preset"]
+    if scenes.SCENES[scene].get("render_args"):
+        spec["scene_args"] = list(scenes.SCENES[scene]["render_args"])
     if pt["field"] and pt["field"].get("kind", "").startswith("bake"):
         spec["field_footprint"] = field.has_footprint()
-    mkey = key_of({k: spec[k] for k in ("render", "bake", "blender", "preset")})
+    mkey = key_of({k: spec[k] for k in ("render", "bake", "blender", "preset", "scene_args") if k in spec})
     key = key_of(spec)
     if cache.exists() and not force:
         c = json.loads(cache.read_text())
@@ -567,7 +572,7 @@ def main(argv=None):
     global QUICK
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--scenes", default=",".join(scenes.SCENES))
+    ap.add_argument("--scenes", default=",".join(s for s, d in scenes.SCENES.items() if not d.get("extra")))
     ap.add_argument("--knobs", default=",".join(r["knob"] for r in KNOBS))
     ap.add_argument("--force", action="store_true", help="re-measure cached points and references")
     ap.add_argument("--runs", type=int, default=None, help="renders per point (default 2, --quick 1)")
@@ -604,6 +609,8 @@ def main(argv=None):
             continue
         for s in want_scenes:
             if row.get("scenes") and s not in row["scenes"]:
+                continue
+            if scenes.SCENES[s].get("knobs") and row["knob"] not in scenes.SCENES[s]["knobs"]:
                 continue
             values = cn.presets()[scenes.SCENES[s]["preset"]]["params"]
             for setting in knob_settings(row, dict(cn.defaults(), **values)):
