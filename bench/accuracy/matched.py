@@ -48,7 +48,11 @@ def baseline_of(point: dict, points: list):
         same = [p for p in points if p.get("knob") == "step_rate" and p.get("image")]
         finest = min(same, key=lambda p: float(p["spec"]["render"]["step_rate"]), default=None)
         return None if finest is None or finest is point else finest
-    target = {k: v for k, v in render.items() if k != "params"}
+    if not spec.get("bake") and not render.get("params"):
+        return None  # a plain procedural render is a baseline itself
+    # what the knob changes (the bake, the parameters, the VDB shader's version) is
+    # left out; the render settings that remain must match
+    target = {k: v for k, v in render.items() if k not in ("params", "vdb_material")}
     target["source"] = "procedural"
     for p in points:
         s = p.get("spec") or {}

@@ -20,7 +20,8 @@ def point(knob, setting, render, bake=None, image=None, variant=None):
 
 def test_baselines():
     proc = point("procedural", "base", dict(BASE), image="p.exr")
-    vdb = point("bake_resolution", "128", dict(BASE, source="vdb"), bake={"resolution": 128}, image="v.exr")
+    vdb = point("bake_resolution", "128", dict(BASE, source="vdb", vdb_material=2), bake={"resolution": 128},
+                image="v.exr")
     detail = point("noise_detail", "2", dict(BASE, params={"noise_detail": 2.0}), image="d.exr")
     spp = point("samples", "16", dict(BASE, samples=16), image="s.exr")
     fine = point("step_rate", "0.25", dict(BASE, step_rate=0.25), image="f.exr")
@@ -35,6 +36,7 @@ def test_baselines():
     assert matched.baseline_of(proc, pts) is None
     assert matched.baseline_of(coarse, pts) is fine and matched.baseline_of(fine, pts) is None
     assert matched.baseline_of(tier_vdb, pts) is tier_proc, "same render settings, procedural"
+    assert matched.baseline_of(tier_proc, pts) is None, "a plain procedural render is a baseline itself"
     other_blender = dict(vdb, spec=dict(vdb["spec"], blender="5.0"))
     assert matched.baseline_of(other_blender, pts) is None, "never across Blender versions"
 
