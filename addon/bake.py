@@ -115,12 +115,20 @@ def _baked_material(cloud):
         volume.inputs["Color"].default_value = tuple(look.get("color", (1.0, 1.0, 1.0)))[:3] + (1.0,)
         volume.inputs["Anisotropy"].default_value = float(look.get("anisotropy", 0.3))
     volume.name = "Cloud Volume"
-    attr = nt.nodes.new("ShaderNodeAttribute")
-    attr.attribute_name = "density"
-    attr.name = "Density Grid"
     out = nt.nodes.new("ShaderNodeOutputMaterial")
-    attr.location, volume.location, out.location = (-250, 0), (0, 0), (300, 0)
-    nt.links.new(attr.outputs["Fac"], volume.inputs["Density"])
+    volume.location, out.location = (0, 0), (300, 0)
+    if "Density Attribute" in volume.inputs:
+        # The Principled Volume multiplies Density by its Density Attribute: the
+        # grid reaches it through the attribute alone (linking it into Density
+        # too would square the density — a darker cloud).
+        volume.inputs["Density Attribute"].default_value = "density"
+        volume.inputs["Density"].default_value = 1.0
+    else:
+        attr = nt.nodes.new("ShaderNodeAttribute")
+        attr.attribute_name = "density"
+        attr.name = "Density Grid"
+        attr.location = (-250, 0)
+        nt.links.new(attr.outputs["Fac"], volume.inputs["Density"])
     nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
     if hasattr(mat, "cycles") and hasattr(mat.cycles, "volume_step_rate"):
         mat.cycles.volume_step_rate = 1.0  # a VDB steps at its voxel size

@@ -91,6 +91,19 @@ def test_bake_creates_volume_lined_up_with_the_box(bake_addon, tmp_path):
 
     assert bpy.ops.cloudgen.cloud_source(source="PROCEDURAL") == {"FINISHED"}
     assert cloud["cloudgen_source"] == "PROCEDURAL" and not cloud.hide_render and vdb.hide_render
+    # Without the cloud's own volume node the baked material is a Principled Volume:
+    # the grid must reach it once, through its Density Attribute (a link into
+    # Density as well multiplies the two: density squared, a darker cloud).
+    from cloudgen import bake as bake_module
+    cloud_mat = cloud.active_material
+    cloud.data.materials.clear()
+    principled = bake_module._baked_material(cloud)
+    vol = principled.node_tree.nodes["Cloud Volume"]
+    assert vol.bl_idname == "ShaderNodeVolumePrincipled", vol.bl_idname
+    assert not vol.inputs["Density"].is_linked and vol.inputs["Density"].default_value == 1.0
+    assert vol.inputs["Density Attribute"].default_value == "density"
+    cloud.data.materials.append(cloud_mat)
+    bake_module._baked_material(cloud)  # restore the cloud's own look on <cloud>_VDB
     # re-bake updates the same object
     assert bpy.ops.cloudgen.bake_vdb(resolution=16) == {"FINISHED"}
     assert [o.name for o in bpy.data.objects if o.type == "VOLUME"] == [vdb.name]
