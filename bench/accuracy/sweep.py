@@ -69,7 +69,9 @@ KNOBS = [
     {"knob": "noise_detail", "settings": ["1", "2", "3", "4", "preset"], "quick": ["2", "preset"]},
     {"knob": "preview_resolution", "settings": ["64", "128", "256", "512", "1024"], "quick": ["64", "256"]},
     {"knob": "tier", "settings": "tiers", "quick": ["draft"]},
-    {"knob": "camera_aware", "settings": ["ppv=1", "ppv=2", "ppv=4"], "quick": ["ppv=2"]},
+    {"knob": "camera_aware", "settings": ["ppv=1", "ppv=2", "ppv=4"], "quick": ["ppv=2"],
+     # the margin around the view (margin=cli: the CLI's optical-depth default), where it can matter
+     "extra_settings": {"cumulus_closeup": ["ppv=1,margin=0", "ppv=1,margin=cli"]}},
     {"knob": "volume_biased", "settings": ["biased", "unbiased"], "quick": ["biased", "unbiased"],
      "scenes": ["cumulus"]},
 ]
@@ -167,10 +169,12 @@ def make_points(knob, setting, scene, cfg):
                   bake=b, field={"kind": "bake", **b}, variant="vdb"),
                 P(f"{name} (procedural, {tr['samples']} spp)", render=r, variant="procedural")]
     if knob == "camera_aware":
-        ppv = float(setting.split("=")[1])
-        b = {"camera": True, "pixels_per_voxel": ppv, "margin": 0.5, "lod": True, "half": False,
+        kv = dict(item.split("=") for item in setting.split(","))
+        margin = 0.5 if "margin" not in kv else (None if kv["margin"] == "cli" else float(kv["margin"]))
+        b = {"camera": True, "pixels_per_voxel": float(kv["ppv"]), "margin": margin, "lod": True, "half": False,
              "tolerance": 0.0, "skip": True}
-        return [P(f"Camera-aware VDB, {setting.split('=')[1]} px/voxel", render=vdb, bake=b,
+        text = "default" if margin is None else f"{margin:g}"
+        return [P(f"Camera-aware VDB, {kv['ppv']} px/voxel, margin {text}", render=vdb, bake=b,
                   field={"kind": "bake_camera"})]
     raise ValueError(knob)
 
@@ -301,7 +305,7 @@ def bake(scene, spec, output, workdir):
     cmd = [CLOUDGEN, "bake", "--quiet", "--preset", scenes.SCENES[scene]["preset"], "--output", output]
     if spec.get("camera"):
         cam = pathlib.Path(workdir) / "camera.json"
-        export_camera(scene, cam, spec["pixels_per_voxel"], spec.get("margin", 0.5))
+        export_camera(scene, cam, spec["pixels_per_voxel"], spec.get("margin"))
         cmd += ["--camera", cam]
         if spec.get("resolution"):
             cmd += ["--resolution", spec["resolution"]]
@@ -489,7 +493,7 @@ POINT_KEYS = ["knob", "setting", "label", "blender", "variant", "render_s", "ren
               "bake_s_all", "time_s", "peak_mib", "bake_peak_mib", "file_mib", "rmse", "flip", "field_rms",
               "field_max", "field_range", "same_as", "image", "bake_cmd", "field_lod", "voxel", "grid", "camera_voxel",
               "visible_tiles", "total_tiles", "load_before", "slice_s", "slice_s_all", "slice_size", "field_note",
-              "measured_at"]
+              "measured_at", "matched_rmse", "matched_flip", "matched_to"]
 
 
 def machine():
@@ -614,7 +618,9 @@ def main(argv=None):
             if scenes.SCENES[s].get("knobs") and row["knob"] not in scenes.SCENES[s]["knobs"]:
                 continue
             values = cn.presets()[scenes.SCENES[s]["preset"]]["params"]
-            for setting in knob_settings(row, dict(cn.defaults(), **values)):
+            settings = knob_settings(row, dict(cn.defaults(), **values))
+            settings = list(settings) + ([] if QUICK else row.get("extra_settings", {}).get(s, []))
+            for setting in settings:
                 for pt in make_points(row["knob"], setting, s, CFG):
                     try:
                         measure_point(s, pt, a.force)
