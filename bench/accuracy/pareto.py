@@ -9,7 +9,7 @@ import math
 __all__ = ["pareto_front", "knee", "usable"]
 
 
-def _number(point, key):
+def number(point, key):
     """point[key] as a finite float, or None when it is missing / null / NaN / inf / not a number."""
     try:
         v = point.get(key)
@@ -26,7 +26,7 @@ def _number(point, key):
 
 def usable(points, cost="time_s", error="flip"):
     """The points that have a finite cost and a finite error, in input order."""
-    return [p for p in points if _number(p, cost) is not None and _number(p, error) is not None]
+    return [p for p in points if number(p, cost) is not None and number(p, error) is not None]
 
 
 def pareto_front(points, cost="time_s", error="flip"):
@@ -41,7 +41,7 @@ def pareto_front(points, cost="time_s", error="flip"):
     cost only the lowest error survives, with equal error only the lowest cost.
     Returns a new list of the original point objects.
     """
-    cands = [(_number(p, cost), _number(p, error), i, p) for i, p in enumerate(points)]
+    cands = [(number(p, cost), number(p, error), i, p) for i, p in enumerate(points)]
     cands = [c for c in cands if c[0] is not None and c[1] is not None]
     cands.sort(key=lambda c: (c[0], c[1], c[2]))  # cost, then error, then input order
     front = []
@@ -65,14 +65,14 @@ def knee(front, cost="time_s", error="flip"):
     front has fewer than 3 usable points (the ends are never the knee) or all
     interior points lie on the line. Ties in distance go to the cheaper point.
     """
-    pts = sorted(usable(front, cost, error), key=lambda p: (_number(p, cost), _number(p, error)))
+    pts = sorted(usable(front, cost, error), key=lambda p: (number(p, cost), number(p, error)))
     if len(pts) < 3:
         return None
     for p in pts:
-        if _number(p, cost) <= 0:
+        if number(p, cost) <= 0:
             raise ValueError(f"knee: cost {cost}={p.get(cost)!r} must be > 0 for a log scale (point {p!r})")
-    xs = [math.log10(_number(p, cost)) for p in pts]
-    ys = [_number(p, error) for p in pts]
+    xs = [math.log10(number(p, cost)) for p in pts]
+    ys = [number(p, error) for p in pts]
 
     def scaled(v):
         lo, hi = min(v), max(v)

@@ -22,7 +22,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 if str(HERE.parent) not in sys.path:
     sys.path.insert(0, str(HERE.parent))
-from accuracy.pareto import knee, pareto_front  # noqa: E402
+from accuracy.pareto import knee, number as num, pareto_front  # noqa: E402
 
 START = "<!-- generated:start -->"
 END = "<!-- generated:end -->"
@@ -56,17 +56,6 @@ def fmt(v, digits=3):
     if not math.isfinite(v):
         return "—"
     return f"{v:.{digits}g}"
-
-
-def num(p, key):
-    v = p.get(key) if isinstance(p, dict) else None
-    if v is None or isinstance(v, bool):
-        return None
-    try:
-        v = float(v)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) else None
 
 
 def point_time(p):
