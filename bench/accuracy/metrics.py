@@ -16,6 +16,7 @@ Only numpy is needed, plus flip_evaluator for FLIP / EXR loading and bpy as a
 fallback EXR loader (both imported lazily).
 """
 import os
+import pathlib
 import struct
 
 import numpy as np
@@ -228,3 +229,38 @@ def _load_exr_bpy(path):
     if ch < 3:
         px = np.repeat(px[..., :1], 3, axis=2)
     return np.ascontiguousarray(px[..., :3])
+
+
+def write_exr(path, rgb):
+    """An uncompressed scanline float RGB OpenEXR file (for the averaged reference)."""
+    rgb = np.asarray(rgb, np.float32)
+    h, w, _ = rgb.shape
+
+    def attr(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+
+    chlist = b"".join(c.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in "BGR") + b"\0"
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    header = (b"\x76\x2f\x31\x01" + struct.pack("<I", 2)
+              + attr("channels", "chlist", chlist) + attr("compression", "compression", b"\0")
+              + attr("dataWindow", "box2i", box) + attr("displayWindow", "box2i", box)
+              + attr("lineOrder", "lineOrder", b"\0") + attr("pixelAspectRatio", "float", struct.pack("<f", 1))
+              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+    line = 8 + 3 * 4 * w
+    start = len(header) + 8 * h
+    offsets = struct.pack(f"<{h}Q", *[start + y * line for y in range(h)])
+    body = b"".join(struct.pack("<ii", y, 3 * 4 * w)
+                    + b"".join(rgb[y, :, c].astype("<f4").tobytes() for c in (2, 1, 0)) for y in range(h))
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name("." + path.name + ".tmp")
+    tmp.write_bytes(header + offsets + body)
+    os.replace(tmp, path)
+
+
+def write_png(path, rgb, scale=3):
+    from PIL import Image
+    img = Image.fromarray((srgb_encode(rgb) * 255 + 0.5).astype(np.uint8))
+    img = img.resize((img.width * scale, img.height * scale), Image.NEAREST)
+    img.save(path)

@@ -32,7 +32,6 @@ import pathlib
 import platform
 import re
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
@@ -226,44 +225,6 @@ def log(msg):
     print(time.strftime("%H:%M:%S"), msg, flush=True)
 
 
-def write_exr(path, rgb):
-    """An uncompressed scanline float RGB OpenEXR file (for the averaged reference)."""
-    import numpy as np
-    rgb = np.asarray(rgb, np.float32)
-    h, w, _ = rgb.shape
-
-    def attr(name, kind, value):
-        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
-
-    chlist = b"".join(c.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in "BGR") + b"\0"
-    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
-    header = (b"\x76\x2f\x31\x01" + struct.pack("<I", 2)
-              + attr("channels", "chlist", chlist) + attr("compression", "compression", b"\0")
-              + attr("dataWindow", "box2i", box) + attr("displayWindow", "box2i", box)
-              + attr("lineOrder", "lineOrder", b"\0") + attr("pixelAspectRatio", "float", struct.pack("<f", 1))
-              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
-              + attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
-    line = 8 + 3 * 4 * w
-    start = len(header) + 8 * h
-    offsets = struct.pack(f"<{h}Q", *[start + y * line for y in range(h)])
-    body = b"".join(struct.pack("<ii", y, 3 * 4 * w)
-                    + b"".join(rgb[y, :, c].astype("<f4").tobytes() for c in (2, 1, 0)) for y in range(h))
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name("." + path.name + ".tmp")
-    tmp.write_bytes(header + offsets + body)
-    os.replace(tmp, path)
-
-
-def write_png(path, rgb, scale=3):
-    import numpy as np
-    from PIL import Image
-    import metrics
-    img = Image.fromarray((metrics.srgb_encode(rgb) * 255 + 0.5).astype(np.uint8))
-    img = img.resize((img.width * scale, img.height * scale), Image.NEAREST)
-    img.save(path)
-
-
 # ---------------------------------------------------------------- renders --
 def render_cmd(scene, spec, output, blender="4.5", vdb=None, params_file=None):
     py = PY50 if blender == "5.0" else PY45
@@ -384,8 +345,8 @@ def reference(scene, blender="4.5", force=False):
         log(f"[{scene}] reference seed {seed}: {r['render_s']:.1f} s")
         CFG["versions"][blender] = r["version"]
     avg = (imgs[0] + imgs[1]) / 2
-    write_exr(avg_path, avg)
-    write_png(img_dir / f"ref{suffix}.png", avg)
+    metrics.write_exr(avg_path, avg)
+    metrics.write_png(img_dir / f"ref{suffix}.png", avg)
     nf = metrics.noise_floor(imgs[0], imgs[1])
     c = {"key": key_of(spec), "spec": spec, "samples": rs["samples"], "step_rate": rs.get("step_rate"),
          "volume_biased": rs.get("volume_biased"), "seeds": list(scenes.REF_SEEDS),

@@ -314,3 +314,15 @@ def test_report_splice_without_markers():
     again = report.splice(block, "NEW")
     assert again == block.replace("GEN", "NEW"), f"re-generation must only change the block: {again!r}"
     assert report.splice("", "GEN").startswith("# "), "a new doc gets a title"
+
+
+def test_write_exr_round_trips_through_load_exr(tmp_path):
+    """The sweep's averaged reference is written with write_exr (uncompressed float
+    scanlines) and read back with load_exr: exact, tolerance 0."""
+    rgb = np.random.default_rng(3).uniform(0.0, 4.0, (5, 7, 3)).astype(np.float32)
+    path = tmp_path / "ref.exr"
+    metrics.write_exr(path, rgb)
+    back = metrics.load_exr(path)
+    assert back.shape == (5, 7, 3) and np.array_equal(back, rgb), (back.shape, float(np.abs(back - rgb).max()))
+    metrics.write_png(tmp_path / "ref.png", rgb, scale=2)
+    assert (tmp_path / "ref.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
