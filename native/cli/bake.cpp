@@ -166,27 +166,6 @@ std::vector<Job> plan_jobs(const Args& a, const std::string& output, std::string
   return jobs;
 }
 
-// What decides a bake's voxels besides the field: grid, LOD, drop tolerance,
-// storage precision and the camera region — hashed after the field key.
-std::string bake_key(const cg::Model& m, const cg::BakeOptions& o, const cg::GridSpec& g, bool half) {
-  std::uint64_t h = 14695981039346656037ull;
-  auto mix = [&](const void* p, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
-  };
-  mix(g.n, sizeof g.n);
-  mix(&g.voxel, sizeof g.voxel);
-  const int flags[3] = {o.lod, half, o.use_region};
-  mix(flags, sizeof flags);
-  mix(&o.tolerance, sizeof o.tolerance);
-  if (o.use_region) {
-    for (const cg::Plane& p : o.region.planes) mix(&p, sizeof p);
-    for (int l = 0; l < o.region.light_count; ++l) mix(&o.region.lights[l], sizeof(cg::vec3));
-  }
-  char tail[24];
-  std::snprintf(tail, sizeof tail, "-%016llx", static_cast<unsigned long long>(h));
-  return cg::field_key(m) + tail;
-}
-
 std::string stored_bake_key(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return {};
@@ -278,16 +257,12 @@ int cmd_bake(const std::vector<std::string>& argv) {
       p.fit = cg::fit_camera(p.model, *camera);
       const float longest = std::max({p.model.box[0], p.model.box[1], p.model.box[2]});
       const float finest = have_resolution ? longest / float(opts.resolution) : 0.0f;
-      p.opts.voxel = p.fit.visible ? std::max(p.fit.voxel, finest) : longest;  // invisible: one empty voxel
+      p.opts.voxel = std::max(p.fit.voxel, finest);
       p.opts.use_region = true;
       p.opts.region = p.fit.region;
-      if (!p.fit.visible) {  // a plane nothing passes: every tile culled, nothing evaluated
-        p.opts.region.planes[0] = {cg::vec3(1, 0, 0), -2.0f * longest - 1.0f};
-        p.opts.region.light_count = 0;
-      }
     }
     p.grid = cg::bake_grid(p.model, p.opts);
-    p.key = bake_key(p.model, p.opts, p.grid, half);
+    p.key = cg::bake_key(p.model, p.opts, half);
     const double gib = double(cg::estimate_bake_bytes(p.model, p.opts)) / double(1ull << 30);
     if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions
     if (gib > budget_gib) {

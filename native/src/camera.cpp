@@ -222,7 +222,15 @@ CameraFit fit_camera(const Model& m, const CameraView& c) {
   float nearest = INFINITY;
   for (const Polygon& poly : faces)
     for (const vec3& q : poly) nearest = std::min(nearest, dot(forward, q - eye));
-  if (!(nearest < INFINITY)) return fit;  // nothing of the box is in view
+  if (!(nearest < INFINITY)) {
+    // Nothing of the box is in view: one voxel over the box, and a region no
+    // point passes (a plane beyond the box, no lights), so a bake evaluates
+    // nothing and writes an empty grid.
+    fit.voxel = std::max({m.box[0], m.box[1], m.box[2]});
+    fit.region.planes[0] = {vec3(1, 0, 0), -2.0f * fit.voxel - 1.0f};
+    fit.region.light_count = 0;
+    return fit;
+  }
   fit.visible = true;
   fit.nearest_depth = std::max(nearest, c.near_clip);
   fit.footprint = 2.0f * fit.nearest_depth *

@@ -69,4 +69,20 @@ std::string field_key(const Model& m) {
 
 std::string field_key(const Params& p) { return field_key(prepare(p)); }
 
+std::string bake_key(const Model& m, const BakeOptions& o, bool half) {
+  const GridSpec g = bake_grid(m, o);
+  Fnv1a h;
+  for (int a = 0; a < 3; ++a) h.i(g.n[a]);
+  h.f(g.voxel);
+  h.i(o.lod);
+  h.i(half);
+  h.i(o.use_region);
+  h.f(o.tolerance);
+  if (o.use_region) {
+    for (const Plane& p : o.region.planes) h.v3(p.n), h.f(p.d);
+    for (int l = 0; l < o.region.light_count; ++l) h.v3(o.region.lights[l]);
+  }
+  return field_key(m) + "-" + hex(h.h);
+}
+
 }  // namespace cg

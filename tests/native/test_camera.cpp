@@ -67,6 +67,7 @@ TEST(Camera, CloudOutsideTheViewIsNotVisibleAndBakesNothing) {
       " \"resolution\": [64, 48], \"margin\": 0}";
   const cg::CameraFit fit = cg::fit_camera(m, cg::parse_camera(json));
   EXPECT_FALSE(fit.visible);
+  EXPECT_EQ(fit.voxel, 4.0f) << "not visible: one voxel over the box (its longest side)";
   cg::BakeOptions o;
   o.resolution = 32;
   o.use_region = true;

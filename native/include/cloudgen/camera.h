@@ -63,9 +63,10 @@ struct CameraFit {
   bool visible = false;      // some of the box is inside the (un-widened) frustum
   float nearest_depth = 0;   // smallest view depth of a visible box point (>= near_clip)
   float footprint = 0;       // one pixel's size at that depth, scene units
-  float voxel = 0;           // footprint × pixels_per_voxel
+  float voxel = 0;           // footprint × pixels_per_voxel (not visible: the longest box side)
   float margin = 0;          // the margin used
   Frustum region;            // the frustum widened by the margin: tiles outside it are not baked
+                             // (not visible: a region nothing passes)
 };
 CameraFit fit_camera(const Model& m, const CameraView& c);
 

@@ -10,6 +10,7 @@
 
 #include <string>
 
+#include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 
 namespace cg {
@@ -19,5 +20,10 @@ inline constexpr int kFieldKeyVersion = 1;
 
 std::string field_key(const Model& m);
 std::string field_key(const Params& p);
+
+// The key of a bake's voxels: the field key, then a hash of what else decides
+// them — the grid, LOD, drop tolerance, storage precision (`half`) and the
+// camera region. Stored in the VDB; `bake --update` compares it.
+std::string bake_key(const Model& m, const BakeOptions& options, bool half);
 
 }  // namespace cg
