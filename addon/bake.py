@@ -26,6 +26,7 @@ import bpy
 from mathutils import Matrix
 
 from . import bake_process, bridge, camera_fit, quality, sequence
+from .panel import SidebarPanel
 
 SOURCE_KEY = "cloudgen_source"
 BAKED_FROM_KEY = "cloudgen_baked_from"
@@ -404,12 +405,9 @@ class CLOUDGEN_OT_cloud_source(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class CLOUDGEN_PT_bake(bpy.types.Panel):
+class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
     bl_label = "Bake"
     bl_idname = "CLOUDGEN_PT_bake"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Cloud"
     bl_parent_id = "CLOUDGEN_PT_main"
 
     @classmethod

@@ -18,6 +18,7 @@ offers only Custom and the panel says why.
 import bpy
 
 from . import bridge
+from .panel import SidebarPanel
 
 CUSTOM = "CUSTOM"
 PREVIEW_MIN, PREVIEW_MAX = 16, 512          # scene.cloudgen.preview_width limits
@@ -249,12 +250,9 @@ class CLOUDGEN_OT_apply_quality(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class CLOUDGEN_PT_quality(bpy.types.Panel):
+class CLOUDGEN_PT_quality(SidebarPanel, bpy.types.Panel):
     bl_label = "Cloud Quality"
     bl_idname = "CLOUDGEN_PT_quality"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Cloud"
     bl_parent_id = "CLOUDGEN_PT_main"
 
     def draw(self, context):

@@ -5,6 +5,7 @@ render with the scene's settings."""
 import bpy
 
 from . import bridge, cloud_object, nodes, operators, preview
+from .panel import SidebarPanel
 
 
 def status_lines(context):
@@ -28,13 +29,7 @@ def _active_cloud(context):
     return obj if cloud_object.is_cloud(obj) else None
 
 
-class _Panel:
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Cloud"
-
-
-class CLOUDGEN_PT_main(_Panel, bpy.types.Panel):
+class CLOUDGEN_PT_main(SidebarPanel, bpy.types.Panel):
     bl_label = "Cloud"
     bl_idname = "CLOUDGEN_PT_main"
 
@@ -62,7 +57,7 @@ def _draw_sockets(layout, node, params):
                 layout.prop(sock, "default_value", text=p["label"])
 
 
-class _ParamPanel(_Panel):
+class _ParamPanel(SidebarPanel):
     bl_parent_id = "CLOUDGEN_PT_main"
     group = ""
 
@@ -116,7 +111,7 @@ class CLOUDGEN_PT_animation(_ParamPanel, bpy.types.Panel):
         op.enable = not follows
 
 
-class CLOUDGEN_PT_preview(_Panel, bpy.types.Panel):
+class CLOUDGEN_PT_preview(SidebarPanel, bpy.types.Panel):
     bl_label = "Preview"
     bl_idname = "CLOUDGEN_PT_preview"
     bl_parent_id = "CLOUDGEN_PT_main"
