@@ -542,6 +542,8 @@ def main(argv=None):
     ap.add_argument("--force", action="store_true", help="re-measure cached points and references")
     ap.add_argument("--runs", type=int, default=None, help="renders per point (default 2, --quick 1)")
     ap.add_argument("--out", default=None, help="results directory (default bench/results; --quick: a temp dir)")
+    ap.add_argument("--results-only", action="store_true",
+                    help="only rewrite accuracy.json from the cache (e.g. after matched.py)")
     a = ap.parse_args(argv)
     QUICK = a.quick
     out = pathlib.Path(a.out) if a.out else (pathlib.Path(tempfile.mkdtemp(prefix="cloudgen-accuracy-"))
@@ -560,6 +562,9 @@ def main(argv=None):
         if k not in {r["knob"] for r in KNOBS}:
             raise SystemExit(f"sweep: unknown knob {k!r}; known: {[r['knob'] for r in KNOBS]}")
     log(f"accuracy sweep into {out} (quick={QUICK}, scenes {want_scenes}, knobs {want_knobs})")
+    if a.results_only:
+        write_results()
+        return 0
     import cloudgen_native as cn
     t_start = time.time()
     for s in want_scenes:  # the references first: every image error needs them
