@@ -110,7 +110,7 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
   if (doc.contains("near")) c.near_clip = float(read_number(doc, "near", 1e-6, 1e6, where));
   if (doc.contains("margin")) c.margin = float(read_number(doc, "margin", 0.0, 1e9, where));
   if (doc.contains("pixels_per_voxel"))
-    c.pixels_per_voxel = float(read_number(doc, "pixels_per_voxel", 0.01, 1e4, where));
+    c.pixels_per_voxel = float(read_number(doc, "pixels_per_voxel", kMinPixelsPerVoxel, kMaxPixelsPerVoxel, where));
   if (doc.contains("light_directions")) {
     const json& l = doc["light_directions"];
     const std::string bad = where + ": 'light_directions' must be a list of at most 4 non-zero [x, y, z] directions "
@@ -235,7 +235,7 @@ CameraFit fit_camera(const Model& m, const CameraView& c) {
   fit.nearest_depth = std::max(nearest, c.near_clip);
   fit.footprint = 2.0f * fit.nearest_depth *
                   std::min(c.tan_half_fov[0] / float(c.resolution[0]), c.tan_half_fov[1] / float(c.resolution[1]));
-  fit.voxel = fit.footprint * (c.pixels_per_voxel > 0.0f ? c.pixels_per_voxel : 1.0f);
+  fit.voxel = fit.footprint * (c.pixels_per_voxel > 0.0f ? c.pixels_per_voxel : kDefaultPixelsPerVoxel);
   return fit;
 }
 

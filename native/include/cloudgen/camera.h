@@ -16,13 +16,18 @@
 
 namespace cg {
 
+// Voxel edge in pixel footprints: the accepted range and the value when
+// neither the camera file nor a quality tier sets one (tiers.json, camera.json).
+inline constexpr double kMinPixelsPerVoxel = 0.01, kMaxPixelsPerVoxel = 1e4;
+inline constexpr float kDefaultPixelsPerVoxel = 1.0f;
+
 struct CameraView {
   double camera_to_cloud[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};  // row-major, rigid
   float tan_half_fov[2] = {0.36f, 0.27f};  // horizontal, vertical
   int resolution[2] = {320, 240};          // image pixels
   float near_clip = 0.1f;                  // scene units in front of the camera
   float margin = -1.0f;                    // scene units; < 0: default_margin()
-  float pixels_per_voxel = 0.0f;           // voxel edge in pixel footprints at the nearest visible point (0: 1)
+  float pixels_per_voxel = 0.0f;           // voxel edge in pixel footprints (0: kDefaultPixelsPerVoxel)
   int light_count = 0;                     // directions towards the lights (sun), cloud frame
   std::array<vec3, 4> lights{};
 };

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "cloudgen/camera.h"
+
 namespace cg {
 
 struct Tier {
@@ -22,7 +24,7 @@ struct Tier {
   bool bake_lod = true;
   float bake_tolerance = 0.0f;
   bool bake_half = false;
-  float bake_pixels_per_voxel = 1.0f;  // camera-aware bakes: voxel edge in pixel footprints
+  float bake_pixels_per_voxel = kDefaultPixelsPerVoxel;  // camera-aware bakes: voxel edge in pixel footprints
   int preview_size = 256;
   std::string measured_json = "{}";
 };
