@@ -97,8 +97,8 @@ def resolve_params(args):
 
 
 def build_scene(values, args):
-    import bpy
     import blender_nodes
+    import bpy
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene

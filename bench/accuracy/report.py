@@ -22,7 +22,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 if str(HERE.parent) not in sys.path:
     sys.path.insert(0, str(HERE.parent))
-from accuracy.pareto import knee, number as num, pareto_front  # noqa: E402
+from accuracy.pareto import knee, pareto_front  # noqa: E402
+from accuracy.pareto import number as num
 
 START = "<!-- generated:start -->"
 END = "<!-- generated:end -->"

@@ -8,9 +8,8 @@ Without bpy the directory is skipped, unless CLOUDGEN_REQUIRE_BPY=1.
 """
 import pathlib
 
-import pytest
-
 import addon_package
+import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 ADDON_PARENT = ROOT / "build" / "addon"

@@ -1,11 +1,9 @@
 """Every cloud type: Add Cloud makes a cloud that renders (48x36, 4 spp, Cycles
 CPU + OSL) and whose preview equals cloudgen_native.slice() of the same
 parameters exactly (tolerance 0: the same core, the same inputs)."""
+import cloudgen_native as cn
 import numpy as np
 import pytest
-
-import cloudgen_native as cn
-
 from addon_helpers import add_camera_and_sun, render_to_array
 
 TYPES = sorted(cn.presets())

@@ -7,7 +7,6 @@ import sys
 import textwrap
 
 import pytest
-
 from addon_helpers import ROOT
 
 EXTENSION = textwrap.dedent("""

@@ -1,8 +1,7 @@
 """The live preview follows slider changes through the depsgraph handler (in
 background mode without a throttle timer: see addon/preview.py)."""
-import numpy as np
-
 import cloudgen_native as cn
+import numpy as np
 
 
 def test_preview_follows_a_slider(addon, scene):

@@ -5,7 +5,6 @@ bake's resolution and flags), tooltips carry the measured numbers (or say
 "not measured yet"), settings changed by hand are listed, and the bake
 arguments pass --quality plus only explicit overrides."""
 import pytest
-
 from test_ui_draw import draw
 
 

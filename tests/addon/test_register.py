@@ -1,5 +1,4 @@
 """Register/unregister: 20 cycles in one process, nothing left behind."""
-import pytest
 
 
 def _leftovers():

@@ -6,9 +6,7 @@ import subprocess
 import sys
 import textwrap
 
-import numpy as np
-
-from addon_helpers import ROOT, add_camera_and_sun, load_rgb
+from addon_helpers import add_camera_and_sun, load_rgb
 
 SCRIPT = textwrap.dedent("""
     import sys, bpy, addon_utils

@@ -2,8 +2,6 @@
 mode has no region to draw in) and shows the status lines, sliders and preview."""
 import types
 
-import pytest
-
 
 class FakeLayout:
     def __init__(self, log):

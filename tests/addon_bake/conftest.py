@@ -5,9 +5,8 @@ CLOUDGEN_REQUIRE_BPY=1. Every class registered here is unregistered in teardown
 (the 4.5 wheel hangs at exit while an operator class is registered)."""
 import pathlib
 
-import pytest
-
 import addon_package
+import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 ADDON_PARENT = ROOT / "build" / "addon"

@@ -8,7 +8,6 @@ import pathlib
 import subprocess
 
 import pytest
-
 from bake_scene import small_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]

@@ -12,10 +12,8 @@ import pathlib
 import stat
 import subprocess
 import sys
-import textwrap
 
 import pytest
-
 from bake_scene import frame_cloud, small_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]

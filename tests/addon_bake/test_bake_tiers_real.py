@@ -12,7 +12,6 @@ import subprocess
 import tempfile
 
 import pytest
-
 from bake_scene import frame_cloud, small_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]

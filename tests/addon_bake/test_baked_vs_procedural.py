@@ -12,7 +12,6 @@ brightest block. Tolerances, with room for other CPUs and versions but well
 below what a misplaced or mis-scaled volume gives: mean 5 %, RMSE below the
 noise floor (ratio 1.0), blocks 15 %."""
 import numpy as np
-
 from bake_scene import frame_cloud, render_rgb, small_scene
 
 MEAN_TOL = 0.05

@@ -11,7 +11,6 @@ import pathlib
 import subprocess
 
 import pytest
-
 from bake_scene import small_scene
 from test_bake_options import key_density
 

@@ -4,7 +4,6 @@ import json
 
 import numpy as np
 import pytest
-
 from accuracy import matched
 
 BASE = {"source": "procedural", "samples": 64, "step_rate": 1.0, "seed": 0, "size": [4, 3]}

@@ -6,7 +6,6 @@ import struct
 
 import numpy as np
 import pytest
-
 from accuracy import metrics, pareto, report
 
 # ------------------------------------------------------------ field error --

@@ -16,8 +16,8 @@ sys.path.insert(0, str(ROOT / "osl"))
 @pytest.fixture
 def empty_scene():
     """A factory-empty Cycles scene on the CPU with OSL on and denoising off."""
-    import bpy
     import blender_nodes
+    import bpy
 
     blender_nodes.ensure_oslquery_importable()
     bpy.ops.wm.read_factory_settings(use_empty=True)

@@ -4,11 +4,10 @@ ranges, help)."""
 import os
 import tempfile
 
-import numpy as np
-import pytest
-
 import blender_nodes
 import flatten
+import numpy as np
+import pytest
 
 CONSTANT = """
 shader constant_colour(output color Out = color(0.25, 0.5, 0.75)) { Out = color(0.25, 0.5, 0.75); }
@@ -70,8 +69,8 @@ def test_constant_colour_script_node_renders_exactly(empty_scene):
 
 def osl_parameters(shader):
     """(name, type, default, metadata) of a compiled shader's inputs, via oslquery."""
-    import oslquery  # importable once blender_nodes.ensure_oslquery_importable() ran
     import _cycles
+    import oslquery  # importable once blender_nodes.ensure_oslquery_importable() ran
 
     with tempfile.TemporaryDirectory() as d:
         src, oso = os.path.join(d, shader + ".osl"), os.path.join(d, shader + ".oso")

@@ -20,10 +20,9 @@ of the project. OSL's compiled math may differ from C++ in the last bits
 import json
 import os
 
+import blender_nodes
 import numpy as np
 import pytest
-
-import blender_nodes
 
 REL_TOL = 1e-4
 FIGURES = {}

@@ -19,6 +19,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/conftest.py)
+
 GOLDEN = ROOT / "tests" / "golden" / "cumulus_osl"
 PIXEL_THRESHOLD = 0.016
 FAIL_FRACTION = 0.01

@@ -19,7 +19,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from test_cli import REPO_ROOT, TIMEOUT, expect_usage_error, info_json, listing, run
 
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"

@@ -13,10 +13,9 @@ import sys
 import threading
 import time
 
+import cloudgen_native as cn
 import numpy as np
 import pytest
-
-import cloudgen_native as cn
 
 KINDS = {"float": 1, "int": 1, "vector": 3, "curve": None}
 F32 = np.float32

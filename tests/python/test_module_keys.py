@@ -8,10 +8,9 @@ import math
 import pathlib
 import re
 
+import cloudgen_native as cn
 import numpy as np
 import pytest
-
-import cloudgen_native as cn
 
 REPO_ROOT = pathlib.Path(__file__).resolve().parents[2]
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
