@@ -13,8 +13,7 @@
 - preview_error: cloudgen_native.slice at N pixels across, upsampled bilinearly
   to the 1024-pixel slice and compared with it.
 Errors: RMS and max of |approx - exact| over the points divided by the exact
-field's range (max - min) over the same points (metrics.field_error when
-bench/accuracy/metrics.py exists).
+field's range (max - min) over the same points (metrics.field_error).
 """
 from __future__ import annotations
 
@@ -22,25 +21,16 @@ import time
 
 import numpy as np
 
+from accuracy import metrics
+
 N_POINTS = 20000
 SEED = 20261122
 
 
 def _field_error(approx, exact):
-    try:
-        import metrics
-        res = metrics.field_error(approx, exact)
-    except ImportError:
-        res = None
-    if res is None:
-        approx = np.asarray(approx, np.float64)
-        exact = np.asarray(exact, np.float64)
-        rng = float(exact.max() - exact.min()) or 1.0
-        d = np.abs(approx - exact)
-        return float(np.sqrt(np.mean(d * d)) / rng), float(d.max() / rng), rng
-    if isinstance(res, dict):
-        return float(res["rms"]), float(res["max"]), float(res["range"])
-    return float(res[0]), float(res[1]), None
+    """(rms, max, range) of metrics.field_error."""
+    res = metrics.field_error(approx, exact)
+    return float(res["rms"]), float(res["max"]), float(res["range"])
 
 
 def values(params):

@@ -22,14 +22,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import pathlib
 import sys
-import tempfile
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+if str(HERE.parent) not in sys.path:
+    sys.path.insert(0, str(HERE.parent))
+from common import atomic_write
 
 NO_BASELINE_KNOBS = {"samples", "procedural", "volume_biased", "preview_resolution"}
 
@@ -66,7 +66,7 @@ def baseline_of(point: dict, points: list):
 def update_scene(scene_dir: pathlib.Path, root: pathlib.Path = ROOT, load=None) -> int:
     """Adds matched errors to the scene's cached points; returns how many changed.
     `load(path) -> HxWx3 array` reads an image (default metrics.load_exr)."""
-    import metrics
+    from accuracy import metrics
 
     load = load or metrics.load_exr
 
@@ -89,13 +89,11 @@ def update_scene(scene_dir: pathlib.Path, root: pathlib.Path = ROOT, load=None) 
         if a is None or b is None:
             continue
         new = {"matched_rmse": metrics.image_rmse(a, b), "matched_flip": metrics.image_flip(a, b),
-               "matched_to": f"{base['knob']} {base['setting']}" + (f" {base['variant']}" if base.get("variant") else "")}
+               "matched_to": f"{base['knob']} {base['setting']}"
+               + (f" {base['variant']}" if base.get("variant") else "")}
         if any(p.get(k) != v for k, v in new.items()):
             p.update(new)
-            fd, tmp = tempfile.mkstemp(prefix="." + f.name, dir=f.parent)
-            with os.fdopen(fd, "w") as out:
-                json.dump(p, out, indent=1)
-            os.replace(tmp, f)
+            atomic_write(f, json.dumps(p, indent=1))
             changed += 1
     return changed
 

@@ -16,10 +16,10 @@ Only numpy is needed, plus flip_evaluator for FLIP / EXR loading and bpy as a
 fallback EXR loader (both imported lazily).
 """
 import os
-import pathlib
 import struct
 
 import numpy as np
+from common import atomic_write
 
 __all__ = ["field_error", "image_rmse", "image_flip", "load_exr", "noise_floor", "srgb_encode"]
 
@@ -252,11 +252,7 @@ def write_exr(path, rgb):
     offsets = struct.pack(f"<{h}Q", *[start + y * line for y in range(h)])
     body = b"".join(struct.pack("<ii", y, 3 * 4 * w)
                     + b"".join(rgb[y, :, c].astype("<f4").tobytes() for c in (2, 1, 0)) for y in range(h))
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name("." + path.name + ".tmp")
-    tmp.write_bytes(header + offsets + body)
-    os.replace(tmp, path)
+    atomic_write(path, header + offsets + body)
 
 
 def write_png(path, rgb, scale=3):

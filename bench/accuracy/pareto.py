@@ -46,7 +46,7 @@ def pareto_front(points, cost="time_s", error="flip"):
     cands.sort(key=lambda c: (c[0], c[1], c[2]))  # cost, then error, then input order
     front = []
     best = math.inf  # lowest error among the cheaper (or equally cheap) points seen so far
-    for c, e, _, p in cands:
+    for _, e, _, p in cands:
         if e < best:  # strictly better error than everything at lower-or-equal cost
             front.append(p)
             best = e

@@ -29,7 +29,8 @@ SCENES = {
     },
     "stratocumulus": {
         "preset": "stratocumulus",
-        "description": "A wide thin layer (12 x 12 x 1.6 box) seen from below at an angle, its far edge low in the frame.",
+        "description": ("A wide thin layer (12 x 12 x 1.6 box) seen from below at an angle, "
+                        "its far edge low in the frame."),
     },
     "cirrus": {
         "preset": "cirrus",
@@ -39,7 +40,8 @@ SCENES = {
     # bake can spend its voxels where the camera looks
     "cumulus_closeup": {
         "preset": "cumulus",
-        "description": "The cumulus scene's camera zoomed 3x onto the upper front of the cloud (render_cloud --zoom 3 --aim 0.5,0.3,0.7).",
+        "description": ("The cumulus scene's camera zoomed 3x onto the upper front of the cloud "
+                        "(render_cloud --zoom 3 --aim 0.5,0.3,0.7)."),
         "render_args": ["--zoom", "3", "--aim", "0.5,0.3,0.7"],
         "extra": True,
         "knobs": ["procedural", "bake_resolution", "camera_aware"],

@@ -29,7 +29,6 @@ import hashlib
 import json
 import os
 import pathlib
-import platform
 import re
 import shutil
 import subprocess
@@ -40,9 +39,11 @@ import time
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent))
 
 import field  # noqa: E402
 import scenes  # noqa: E402
+from common import machine_info, write_json  # noqa: E402
 
 PY45 = ROOT / ".venv/bin/python"
 PY50 = ROOT / ".venv-blender5/bin/python"
@@ -197,14 +198,6 @@ def rel(path):
         return str(pathlib.Path(path).resolve().relative_to(ROOT))
     except ValueError:
         return str(path)
-
-
-def write_json(path, data):
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name("." + path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=1) + "\n")
-    os.replace(tmp, path)
 
 
 def run_child(cmd, env=None):
@@ -456,24 +449,9 @@ POINT_KEYS = ["knob", "setting", "label", "blender", "variant", "render_s", "ren
               "measured_at", "matched_rmse", "matched_flip", "matched_to"]
 
 
-def machine():
-    cpu = ""
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-        mem = [line for line in open("/proc/meminfo") if line.startswith("MemTotal")][0]
-        gib = int(mem.split()[1]) / 2 ** 20
-    except OSError:
-        gib = None
-    return {"cpu": cpu or platform.processor(), "cores": os.cpu_count(), "memory_gib": round(gib, 1),
-            "load_before": [round(x, 2) for x in CFG["load_before"]]}
-
-
 def write_results():
     order = {r["knob"]: i for i, r in enumerate(KNOBS)}
-    out = {"machine": machine(), "blender": {}, "settings": {
+    out = {"machine": CFG["machine"], "blender": {}, "settings": {
         "image_size": list(CFG["size"]), "runs_per_point": CFG["runs"], "bake_runs": BAKE_RUNS,
         "base_render": dict(CFG["base"]), "sweep_seed": scenes.SWEEP_SEED,
         "quick": QUICK,
@@ -551,7 +529,7 @@ def main(argv=None):
     CFG.update(size=scenes.QUICK_IMAGE_SIZE if QUICK else scenes.IMAGE_SIZE,
                base=scenes.QUICK_BASE if QUICK else scenes.BASE, reference=scenes.QUICK_REFERENCE,
                runs=a.runs or (1 if QUICK else 2), cache=out / "accuracy_cache", images=out / "images",
-               results=out / "accuracy.json", load_before=os.getloadavg(), versions={},
+               results=out / "accuracy.json", machine=machine_info(), versions={},
                all_scenes=list(scenes.SCENES))
     want_scenes = [s for s in a.scenes.split(",") if s]
     want_knobs = [k for k in a.knobs.split(",") if k]

@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import pathlib
 import sys
-import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+if str(ROOT / "bench") not in sys.path:
+    sys.path.insert(0, str(ROOT / "bench"))
+from common import atomic_write
+
 FIGURES = ("render_s", "bake_s", "rmse", "flip", "field_rms")
 PROCEDURAL_FIGURES = ("render_s", "rmse", "flip")
 
@@ -100,10 +102,7 @@ def main(argv=None) -> int:
             return 1
         return 0
     if new != current:
-        fd, tmp = tempfile.mkstemp(prefix=".tiers.", suffix=".json", dir=path.parent)
-        with os.fdopen(fd, "w") as f:
-            f.write(new)
-        os.replace(tmp, path)
+        atomic_write(path, new)
         print(f"wrote {path}")
     return 0
 

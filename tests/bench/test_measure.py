@@ -4,9 +4,10 @@ import json
 import math
 import struct
 
+import common
 import numpy as np
 import pytest
-from accuracy import metrics, pareto, report
+from accuracy import analysis, metrics, pareto, report
 
 # ------------------------------------------------------------ field error --
 
@@ -251,7 +252,8 @@ def synthetic():
            point("camera_aware", "ppv=2", 1.5, 0.06, 0.006),
            point("tier", "draft", 1.0, 0.1, 0.01), point("tier", "final", 20.0, 0.012, 0.0012),
            {"knob": "preview_resolution", "setting": "128", "render_s": 0.04, "field_rms": 0.02}]
-    return {"machine": {"cpu": "Test CPU", "cores": 2}, "blender": {"4.5": "4.5.15"},
+    machine = {"cpu_model": "Test CPU", "nproc": 2, "mem_total_gib": 3.5, "load_average": [1.0, 0.5, 0.25]}
+    return {"machine": machine, "blender": {"4.5": "4.5.15"},
             "settings": {"image_size": [32, 24], "runs_per_point": 2},
             "scenes": {"cumulus": {"reference": {"samples": 64, "seeds": [1, 2], "noise_rmse": 0.002,
                                                  "noise_flip": 0.01}, "points": pts},
@@ -259,17 +261,17 @@ def synthetic():
 
 
 def test_camera_aware_equal_error_time():
-    rows = {r["cam"]["setting"]: r for r in report.camera_rows(synthetic())}
+    rows = {r["cam"]["setting"]: r for r in analysis.camera_rows(synthetic())}
     r = rows["ppv=2"]  # 64 (2 s, FLIP 0.05, RMSE 0.005) is as good on both: the measured match
     assert r["time"] == 2.0 and r["how"].startswith("measured") and r["ratio"] == 2.0 / 1.5, f"{r}"
     r = rows["ppv=1"]  # FLIP 0.015, no RMSE: better than every uniform bake -> extrapolated from 64 and 256
     # to the camera-aware error + EQUAL_ERROR (3 %): log t = log 2 + (target - 0.05) / (0.02 - 0.05) * log 4
-    target = 0.015 * (1 + report.EQUAL_ERROR)
+    target = 0.015 * (1 + analysis.EQUAL_ERROR)
     want = 2.0 * 4.0 ** ((target - 0.05) / (0.02 - 0.05))  # relative tolerance 1e-9
     assert r["time"] == pytest.approx(want, rel=1e-9) and "extrapolated" in r["how"], f"{r}"
     assert r["ratio"] == pytest.approx(want / 3.0, rel=1e-9), f"{r}"
     uniform = [p for p in synthetic()["scenes"]["cumulus"]["points"] if p["knob"] == "bake_resolution"]
-    t, how = report.time_at_error(uniform, "flip", 0.03)  # bracketed by 64 (0.05) and 256 (0.02)
+    t, how = analysis.time_at_error(uniform, "flip", 0.03)  # bracketed by 64 (0.05) and 256 (0.02)
     assert t == pytest.approx(2.0 * 4.0 ** (2.0 / 3.0), rel=1e-9) and "interpolated" in how, f"{t} {how}"
 
 
@@ -292,7 +294,8 @@ def test_report_markdown_keeps_hand_text(written):
     assert text.count("<!-- generated:start -->") == 1 and text.count("<!-- generated:end -->") == 1, text
     assert text.startswith("# Mine\n\nHand text before.\n") and text.endswith("Hand text after.\n"), text
     assert "stale" not in text, "old generated text must be replaced"
-    for want in ("## Method", "Test CPU", "## Quality tiers", "tier:draft", "## Camera-aware", "×",
+    for want in ("## Method", "**Machine:** Test CPU (2 cores, 3.5 GiB); load average before the sweep 1, 0.5, 0.25",
+                 "## Quality tiers", "tier:draft", "## Camera-aware", "×",
                  "bake_resolution:256", "0.01 / 0.2", "images/pareto_cumulus.png"):
         assert want in text, f"{want!r} missing from the generated doc:\n{text}"
     assert list(d.glob("docs/.*.tmp")) == [], "temporary files left behind"
@@ -308,11 +311,14 @@ def test_report_png(written):
 
 
 def test_report_splice_without_markers():
-    block = report.splice("Hand only.\n", "GEN")
+    def splice(text, body):
+        return common.splice(text, report.START, report.END, body, new_doc=report.NEW_DOC)
+
+    block = splice("Hand only.\n", "GEN")
     assert block == "Hand only.\n\n<!-- generated:start -->\nGEN\n<!-- generated:end -->\n", repr(block)
-    again = report.splice(block, "NEW")
+    again = splice(block, "NEW")
     assert again == block.replace("GEN", "NEW"), f"re-generation must only change the block: {again!r}"
-    assert report.splice("", "GEN").startswith("# "), "a new doc gets a title"
+    assert splice("", "GEN").startswith("# "), "a new doc gets a title"
 
 
 def test_write_exr_round_trips_through_load_exr(tmp_path):
