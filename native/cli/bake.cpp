@@ -13,8 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/events.h"
 #include "cloudgen/camera.h"
 #include "cloudgen/field_key.h"
+#include "cloudgen/frame_path.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
@@ -32,7 +34,7 @@ const char* const kBakeHelp =
     "usage: cloudgen bake (--preset NAME | --params FILE.json | --sequence FILE.json) --output FILE.vdb\n"
     "                     [--resolution N] [--quality draft|preview|final] [--camera CAMERA.json]\n"
     "                     [--time T] [--frames A-B [--fps F]] [--update] [--tolerance X] [--no-skip]\n"
-    "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet]\n"
+    "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet] [--json]\n"
     "\n"
     "Evaluates the cloud density on a voxel grid over the cloud box and writes it\n"
     "as an OpenVDB file: one float grid named `density`, class fog volume,\n"
@@ -52,8 +54,8 @@ const char* const kBakeHelp =
     "  --camera FILE.json  camera-aware bake (docs/camera.md): voxel = one pixel's footprint\n"
     "                      at the nearest visible point of the box, octaves capped there,\n"
     "                      only the view frustum plus a shadow margin baked\n"
-    "  --output FILE.vdb   the file to write; for a sequence a run of # in the name is\n"
-    "                      the zero-padded frame number, else _0001 goes before .vdb\n"
+    "  --output FILE.vdb   the file to write; for a sequence the last run of # in the name\n"
+    "                      is the zero-padded frame number, else _0001 goes before .vdb\n"
     "  --time T            overrides the `time` parameter (seconds)\n"
     "  --frames A-B        bake frames A..B (or one frame A), time = frame / fps\n"
     "  --fps F             frames per second for --frames (default 24)\n"
@@ -65,14 +67,17 @@ const char* const kBakeHelp =
     "  --half              store 16-bit floats (half the file size)\n"
     "  --max-memory GiB    refuse, before allocating, a bake whose estimated memory\n"
     "                      exceeds this budget (default 8)\n"
-    "  --quiet             no progress lines\n"
+    "  --quiet             no progress\n"
+    "  --json              machine-readable output: one JSON object per line on stdout\n"
+    "                      (plan, camera, frame, progress, wrote, copied, kept, error;\n"
+    "                      docs/cli_protocol.md)\n"
     "\n"
     "Frames whose density field equals an earlier frame's (a cloud without wind\n"
     "and evolution, unchanged keyframes) are byte copies of that frame's file\n"
     "(its metadata, e.g. cloudgen_time, is that frame's). In a --sequence file,\n"
     "\"fps\" is informational: each frame's time is its params' \"time\".\n"
-    "Output: progress lines `bake: P%` on stdout, then per file one line\n"
-    "`wrote PATH ...`, `copied PATH (same field as frame N)` or `kept PATH (unchanged)`.\n"
+    "Output: per file one line `wrote PATH ...`, `copied PATH (same field as frame N)`\n"
+    "or `kept PATH (unchanged)` on stdout; progress `bake: P%` on stderr.\n"
     "Files appear atomically (temporary file + rename): an error, SIGINT or\n"
     "SIGTERM leaves no partial file (frames already finished stay).\n"
     "Exit codes: 0 ok, 1 I/O failure, 2 bad argument, 130 cancelled.\n";
@@ -82,23 +87,6 @@ bool ends_with_ci(const std::string& s, const std::string& suffix) {
   for (std::size_t i = 0; i < suffix.size(); ++i)
     if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) != suffix[i]) return false;
   return true;
-}
-
-// Frame file name: the last run of '#' becomes the zero-padded frame number,
-// else _NNNN goes before the extension.
-std::string frame_path(const std::string& pattern, long long frame) {
-  const auto last = pattern.find_last_of('#');
-  if (last != std::string::npos) {
-    auto first = last;
-    while (first > 0 && pattern[first - 1] == '#') --first;
-    const int width = int(last - first + 1);
-    char num[32];
-    std::snprintf(num, sizeof num, "%0*lld", width, frame);
-    return pattern.substr(0, first) + num + pattern.substr(last + 1);
-  }
-  char num[32];
-  std::snprintf(num, sizeof num, "_%04lld", frame);
-  return pattern.substr(0, pattern.size() - 4) + num + pattern.substr(pattern.size() - 4);
 }
 
 struct Job {
@@ -131,7 +119,7 @@ std::vector<Job> sequence_jobs(const std::string& file, const std::string& outpu
     if (seen[n]) throw UsageError(origin + ": frame " + std::to_string(n) + " is listed twice");
     seen[n] = true;
     jobs.push_back({n, cg::params_from_json(f["params"].dump(), origin + " (frame " + std::to_string(n) + ")"),
-                    frame_path(output, n)});
+                    cg::frame_path(output, n)});
   }
   return jobs;
 }
@@ -156,7 +144,7 @@ std::vector<Job> plan_jobs(const Args& a, const std::string& output, std::string
     const double fps = a.has("--fps") ? a.number("--fps", 0.0, 1000.0, true) : 24.0;
     for (long long f = *from; f <= *to; ++f) {
       set_time(params, double(f) / fps, "--frames (frame " + std::to_string(f) + ")");
-      jobs.push_back({f, params, frame_path(output, f)});
+      jobs.push_back({f, params, cg::frame_path(output, f)});
     }
     return jobs;
   }
@@ -194,11 +182,13 @@ void copy_atomically(const std::string& from, const std::string& to) {
 }  // namespace
 
 int cmd_bake(const std::vector<std::string>& argv) {
+  // before parsing: a bad argument is reported as an `error` event too
+  if (std::find(argv.begin(), argv.end(), "--json") != argv.end()) set_output_mode(OutputMode::Json);
   Args a("bake", argv,
          {{"--preset", true}, {"--params", true}, {"--sequence", true}, {"--resolution", true},
           {"--quality", true}, {"--camera", true}, {"--output", true}, {"--time", true}, {"--frames", true},
           {"--fps", true}, {"--update", false}, {"--tolerance", true}, {"--no-skip", false}, {"--no-lod", false},
-          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}});
+          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}, {"--json", false}});
   if (a.help()) return std::cout << kBakeHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
 
@@ -275,57 +265,82 @@ int cmd_bake(const std::vector<std::string>& argv) {
                     camera ? " (lower the camera's resolution, raise pixels_per_voxel or cap --resolution)" : "");
       throw UsageError(msg);
     }
-    if (!quiet && &job == &jobs.front()) {
-      std::printf("bake: %s, %dx%dx%d voxels of %g, estimated memory <= %.3f GiB, %d thread(s)\n",
-                  preset.empty() ? "parameters" : preset.c_str(), p.grid.n[0], p.grid.n[1], p.grid.n[2],
-                  p.grid.voxel, gib, cg::resolve_threads(opts.threads));
-      if (camera && p.fit.visible)
-        std::printf("camera: nearest visible depth %g, pixel footprint %g, voxel %g, margin %g\n",
-                    p.fit.nearest_depth, p.fit.footprint, p.grid.voxel, p.fit.margin);
-      if (camera && !p.fit.visible) std::printf("camera: the cloud box is outside the view; nothing to bake\n");
-      std::fflush(stdout);
-    }
     plan.push_back(std::move(p));
+  }
+
+  // What the run will write, before it writes anything: the CLI alone names files.
+  {
+    const Planned& first = plan.front();
+    Fields files = Fields::array();
+    for (const Job& job : jobs)
+      files.push_back({{"frame", job.frame >= 0 ? Fields(job.frame) : Fields()}, {"path", job.path}});
+    const double gib = double(cg::estimate_bake_bytes(first.model, first.opts)) / double(1ull << 30);
+    const int threads = cg::resolve_threads(opts.threads);
+    char human[300];
+    std::snprintf(human, sizeof human, "bake: %s, %dx%dx%d voxels of %g, estimated memory <= %.3f GiB, %d thread(s)",
+                  preset.empty() ? "parameters" : preset.c_str(), first.grid.n[0], first.grid.n[1], first.grid.n[2],
+                  first.grid.voxel, gib, threads);
+    emit("plan",
+         {{"protocol", cg::kProtocolVersion},
+          {"files", files},
+          {"grid", {first.grid.n[0], first.grid.n[1], first.grid.n[2]}},
+          {"voxel", first.grid.voxel},
+          {"memory_gib", gib},
+          {"threads", threads},
+          {"preset", preset.empty() ? Fields() : Fields(preset)}},
+         quiet ? "" : human);
+    if (camera) {
+      const cg::CameraFit& fit = first.fit;
+      Fields fields = {{"visible", fit.visible}};
+      std::string line = "camera: the cloud box is outside the view; nothing to bake";
+      if (fit.visible) {
+        fields.update({{"nearest_depth", fit.nearest_depth},
+                       {"footprint", fit.footprint},
+                       {"voxel", first.grid.voxel},
+                       {"margin", fit.margin}});
+        char buf[300];
+        std::snprintf(buf, sizeof buf, "camera: nearest visible depth %g, pixel footprint %g, voxel %g, margin %g",
+                      fit.nearest_depth, fit.footprint, first.grid.voxel, fit.margin);
+        line = buf;
+      }
+      emit("camera", fields, quiet ? "" : line);
+    }
   }
 
   std::map<std::string, const Job*> done;  // bake key -> the frame that has it on disk
   const std::size_t n_jobs = jobs.size();
+  Progress progress("bake", quiet);
   for (std::size_t fi = 0; fi < n_jobs; ++fi) {
     const Job& job = jobs[fi];
     const Planned& p = plan[fi];
+    const Fields frame = job.frame >= 0 ? Fields(job.frame) : Fields();
     if (cancel_requested()) throw cg::Cancelled();
     if (update && stored_bake_key(job.path) == p.key) {
       done.emplace(p.key, &job);
-      std::printf("kept %s (unchanged)\n", job.path.c_str());
-      std::fflush(stdout);
+      emit("kept", {{"path", job.path}, {"frame", frame}}, "kept " + job.path + " (unchanged)");
       continue;
     }
     if (const auto it = done.find(p.key); it != done.end()) {
       copy_atomically(it->second->path, job.path);
-      std::printf("copied %s (same field as frame %lld)\n", job.path.c_str(), it->second->frame);
-      std::fflush(stdout);
+      emit("copied",
+           {{"path", job.path}, {"frame", frame}, {"source", it->second->path}, {"source_frame", it->second->frame}},
+           "copied " + job.path + " (same field as frame " + std::to_string(it->second->frame) + ")");
       continue;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    if (!quiet && job.frame >= 0) {
-      std::printf("bake: frame %lld (time %g) -> %s\n", job.frame, job.params.get(cg::TIME), job.path.c_str());
-      std::fflush(stdout);
+    if (job.frame >= 0) {
+      char line[64];
+      std::snprintf(line, sizeof line, "bake: frame %lld (time %g) -> ", job.frame, job.params.get(cg::TIME));
+      emit("frame", {{"frame", job.frame}, {"time", job.params.get(cg::TIME)}, {"path", job.path}},
+           quiet ? "" : line + job.path);
     }
-    int last_pct = -1;
-    auto progress = [&](std::int64_t finished, std::int64_t total) {
-      if (!quiet) {
-        const double frac = total > 0 ? double(finished) / double(total) : 1.0;
-        const int pct = static_cast<int>(std::floor(100.0 * (double(fi) + frac) / double(n_jobs)));
-        if (pct != last_pct) {
-          std::printf("bake: %d%%\n", pct);
-          std::fflush(stdout);
-          last_pct = pct;
-        }
-      }
+    auto on_progress = [&](std::int64_t finished, std::int64_t total) {
+      const double frac = total > 0 ? double(finished) / double(total) : 1.0;
+      progress.update((double(fi) + frac) / double(n_jobs));
       return !cancel_requested();
     };
     cgio::AtomicFile file(job.path);
-    const cg::BakeResult result = cg::bake(p.model, p.opts, progress);
+    const cg::BakeResult result = cg::bake(p.model, p.opts, on_progress);
     if (cancel_requested()) throw cg::Cancelled();
     cgio::VdbWriteOptions wo;
     wo.half = half;
@@ -338,15 +353,34 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (cancel_requested()) throw cg::Cancelled();
     file.commit();
     done.emplace(p.key, &job);
-    std::printf("wrote %s (%lld active voxels of %dx%dx%d, %.2f MiB, %.2f s)\n", job.path.c_str(),
-                static_cast<long long>(result.stats.voxels_active), p.grid.n[0], p.grid.n[1], p.grid.n[2],
-                double(cgio::file_size(job.path)) / double(1 << 20), seconds_since(t0));
-    if (camera)
-      std::printf("camera: voxel %g, %lld visible tiles of %lld\n", p.grid.voxel,
-                  static_cast<long long>(result.stats.tiles_total - result.stats.tiles_culled),
-                  static_cast<long long>(result.stats.tiles_total));
-    std::fflush(stdout);
+    progress.finish();
+    const std::uintmax_t bytes = cgio::file_size(job.path);
+    const double seconds = seconds_since(t0);
+    const auto& st = result.stats;
+    char line[400];
+    std::snprintf(line, sizeof line, " (%lld active voxels of %dx%dx%d, %.2f MiB, %.2f s)",
+                  static_cast<long long>(st.voxels_active), p.grid.n[0], p.grid.n[1], p.grid.n[2],
+                  double(bytes) / double(1 << 20), seconds);
+    std::string human = "wrote " + job.path + line;
+    if (camera) {
+      std::snprintf(line, sizeof line, "\ncamera: voxel %g, %lld visible tiles of %lld", p.grid.voxel,
+                    static_cast<long long>(st.tiles_total - st.tiles_culled), static_cast<long long>(st.tiles_total));
+      human += line;
+    }
+    emit("wrote",
+         {{"path", job.path},
+          {"frame", frame},
+          {"active_voxels", st.voxels_active},
+          {"grid", {p.grid.n[0], p.grid.n[1], p.grid.n[2]}},
+          {"voxel", p.grid.voxel},
+          {"bytes", bytes},
+          {"seconds", seconds},
+          {"tiles_total", st.tiles_total},
+          {"tiles_culled", st.tiles_culled}},
+         human);
   }
+  progress.update(1.0);
+  progress.finish();
   return kExitOk;
 }
 

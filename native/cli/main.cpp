@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/events.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
@@ -48,7 +49,7 @@ void install_signal_handlers() {
 bool cancel_requested() { return g_signals != 0; }
 
 const char* const kUsage =
-    "usage: cloudgen [--help] [--version] COMMAND [ARGS]\n"
+    "usage: cloudgen [--help] [--version [--json]] COMMAND [ARGS]\n"
     "\n"
     "Procedural volumetric clouds: bakes the cloud model to OpenVDB and writes\n"
     "cross-section previews.\n"
@@ -70,6 +71,9 @@ const char* const kUsage =
     "  cloudgen bake --preset cumulus --quality preview --camera shot.json --output shot.vdb\n"
     "  cloudgen preview --preset cumulus --axis y --offset 0.5 --size 512 --output slice.png\n"
     "\n"
+    "machine-readable output: `bake` and `preview` take --json (one JSON object per\n"
+    "line on stdout; docs/cli_protocol.md); `cloudgen --version --json` names the protocol.\n"
+    "\n"
     "exit codes: 0 ok; 1 runtime failure (I/O); 2 bad usage or argument (one line\n"
     "`cloudgen: error: ...` naming it); 130 cancelled by SIGINT/SIGTERM (no partial file).\n";
 
@@ -78,9 +82,20 @@ const char* const kUsage =
 namespace {
 
 int fail(int code, const std::string& message) {
-  std::fflush(stdout);
-  std::fprintf(stderr, "cloudgen: error: %s\n", cli::one_line(message).c_str());
+  cli::report_error(code, cli::one_line(message));
   return code;
+}
+
+int print_version(const std::vector<std::string>& rest) {
+  if (rest.size() > 1 || (rest.size() == 1 && rest[0] != "--json"))
+    throw cli::UsageError("--version takes only --json");
+  if (rest.empty()) {
+    std::cout << "cloudgen " << cg::version() << " (protocol " << cg::kProtocolVersion << ")\n";
+  } else {
+    const nlohmann::json v = {{"version", cg::version()}, {"protocol", cg::kProtocolVersion}};
+    std::cout << v.dump() << "\n";
+  }
+  return cli::kExitOk;
 }
 
 int run(const std::vector<std::string>& args) {
@@ -89,7 +104,7 @@ int run(const std::vector<std::string>& args) {
   const std::string& verb = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (verb == "--help" || verb == "-h" || verb == "help") return std::cout << kUsage, kExitOk;
-  if (verb == "--version") return std::cout << "cloudgen " << cg::version() << "\n", kExitOk;
+  if (verb == "--version") return print_version(rest);
   if (verb == "bake") return cmd_bake(rest);
   if (verb == "preview") return cmd_preview(rest);
   if (verb == "presets") return cmd_presets(rest);

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/events.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
@@ -21,6 +22,7 @@ constexpr int kMaxImageSide = 16384;
 const char* const kPreviewHelp =
     "usage: cloudgen preview (--preset NAME | --params FILE.json) --axis x|y|z --offset O\n"
     "                        --size W[xH] --output FILE.png|FILE.exr [--lod] [--time T] [--threads N]\n"
+    "                        [--json]\n"
     "\n"
     "Writes the 2D cross-section of the density through the cloud box, the plane\n"
     "perpendicular to --axis at --offset (a generated box coordinate in [0, 1],\n"
@@ -37,6 +39,7 @@ const char* const kPreviewHelp =
     "  --lod               limit noise octaves to the pixel footprint (default: all octaves)\n"
     "  --time T            overrides the `time` parameter (seconds)\n"
     "  --threads N         worker threads (default 0 = one per core)\n"
+    "  --json              machine-readable output: one `wrote` (or `error`) JSON line\n"
     "\n"
     "The file appears atomically (temporary file + rename).\n"
     "Exit codes: 0 ok, 1 I/O failure, 2 bad argument, 130 cancelled.\n";
@@ -44,9 +47,11 @@ const char* const kPreviewHelp =
 }  // namespace
 
 int cmd_preview(const std::vector<std::string>& argv) {
+  if (std::find(argv.begin(), argv.end(), "--json") != argv.end()) set_output_mode(OutputMode::Json);
   Args a("preview", argv,
          {{"--preset", true}, {"--params", true}, {"--axis", true}, {"--offset", true}, {"--size", true},
-          {"--output", true}, {"--lod", false}, {"--time", true}, {"--threads", true}, {"--quiet", false}});
+          {"--output", true}, {"--lod", false}, {"--time", true}, {"--threads", true}, {"--quiet", false},
+          {"--json", false}});
   if (a.help()) return std::cout << kPreviewHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("preview: unexpected argument '" + a.positional()[0] + "'");
 
@@ -96,8 +101,19 @@ int cmd_preview(const std::vector<std::string>& argv) {
   if (cancel_requested()) throw cg::Cancelled();
   file.commit();
   const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
-  std::printf("wrote %s (%dx%d, axis %s at %g, max density %g, %.2f s)\n", output.c_str(), s.width, s.height,
-              axis.c_str(), s.offset, peak, seconds_since(t0));
+  const double seconds = seconds_since(t0);
+  char line[200];
+  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g, %.2f s)", s.width, s.height,
+                axis.c_str(), s.offset, peak, seconds);
+  emit("wrote",
+       {{"path", output},
+        {"size", {s.width, s.height}},
+        {"axis", axis},
+        {"offset", s.offset},
+        {"max_density", peak},
+        {"bytes", cgio::file_size(output)},
+        {"seconds", seconds}},
+       "wrote " + output + line);
   return kExitOk;
 }
 

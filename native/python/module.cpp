@@ -14,6 +14,7 @@
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/field_key.h"
+#include "cloudgen/frame_path.h"
 #include "cloudgen/param_io.h"
 #include "cloudgen/tiers.h"
 #include "cloudgen/parallel.h"
@@ -88,6 +89,38 @@ PyObject* py_tiers(PyObject*, PyObject*) {
 
 PyObject* py_field_key(PyObject*, PyObject* params) {
   return guarded([&] { return str_to_py(cg::field_key(params_from_py(params)).c_str()).release(); });
+}
+
+PyObject* py_version(PyObject*, PyObject*) {
+  return guarded([] {
+    Ref dict = check(PyDict_New());
+    set_item(dict.get(), "version", str_to_py(cg::version()));
+    set_item(dict.get(), "protocol", check(PyLong_FromLong(cg::kProtocolVersion)));
+    return dict.release();
+  });
+}
+
+// Longest pattern frame_path() takes: a file path, not a buffer of any size.
+constexpr Py_ssize_t kMaxPatternBytes = 4096;
+
+PyObject* py_frame_path(PyObject*, PyObject* args) {
+  return guarded([&] {
+    PyObject* pattern_obj = nullptr;
+    PyObject* frame_obj = nullptr;
+    if (!PyArg_ParseTuple(args, "OO:frame_path", &pattern_obj, &frame_obj)) throw PyErrorSet{};
+    if (!PyUnicode_Check(pattern_obj)) raise(PyExc_TypeError, "pattern must be a str (a file path)");
+    Py_ssize_t size = 0;
+    const char* pattern = PyUnicode_AsUTF8AndSize(pattern_obj, &size);
+    if (!pattern) throw PyErrorSet{};
+    if (size > kMaxPatternBytes)
+      raise(PyExc_ValueError, "pattern must be at most " + std::to_string(kMaxPatternBytes) + " bytes; got " +
+                                  std::to_string(size));
+    const long long frame = int_arg(frame_obj, "frame must be an integer in [-1000000, 1000000]");
+    if (frame < -1000000 || frame > 1000000)
+      raise(PyExc_ValueError, "frame must be an integer in [-1000000, 1000000]; got " + std::to_string(frame));
+    const std::string path = cg::frame_path(std::string_view(pattern, static_cast<std::size_t>(size)), frame);
+    return check(PyUnicode_FromStringAndSize(path.data(), static_cast<Py_ssize_t>(path.size()))).release();
+  });
 }
 
 // ---------------------------------------------------------------- density ---
@@ -235,6 +268,16 @@ PyMethodDef kMethods[] = {
      "field_key(params, /)\n--\n\n"
      "16 hex digits identifying the density field of a params dict: equal keys mean\n"
      "equal fields (time drops out of a cloud without wind and evolution)."},
+    {"version", py_version, METH_NOARGS,
+     "version()\n--\n\n"
+     "{'version': release, 'protocol': N}: the release of this module and the version of\n"
+     "the CLI's JSON-lines protocol it was built with (docs/cli_protocol.md). A program\n"
+     "that ships the module and the CLI checks once that `cloudgen --version --json` agrees."},
+    {"frame_path", py_frame_path, METH_VARARGS,
+     "frame_path(pattern, frame, /)\n--\n\n"
+     "The file of a sequence frame, named exactly as `cloudgen bake` names it: the last\n"
+     "run of '#' becomes the frame number zero-padded to the run's length, else _NNNN\n"
+     "goes before the extension. frame in [-1000000, 1000000]."},
     {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)),
      METH_VARARGS | METH_KEYWORDS,
      "slice(params, axis, offset, width, height, lod=False, threads=0)\n--\n\n"

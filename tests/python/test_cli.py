@@ -5,12 +5,14 @@ Runs build/bin/cloudgen of this checkout, or $CLOUDGEN_BIN. Every bad input
 must exit with 2, print ONE line `cloudgen: error: ...` naming the argument,
 and leave the output directory exactly as it was (no file, no temporary).
 """
+import importlib.util
 import json
 import os
 import pathlib
 import signal
 import struct
 import subprocess
+import sys
 
 import pytest
 
@@ -27,6 +29,26 @@ if not os.access(CLOUDGEN, os.X_OK):
 def run(*args, cwd=None):
     return subprocess.run([CLOUDGEN, *map(str, args)], cwd=cwd, capture_output=True, text=True,
                           timeout=TIMEOUT)
+
+
+def _load_cli_events():
+    """addon/cli_events.py, the one reader of the CLI's JSON lines (no bpy needed)."""
+    spec = importlib.util.spec_from_file_location("cli_events", REPO_ROOT / "addon" / "cli_events.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+cli_events = _load_cli_events()
+
+
+def events(result):
+    """The BakeEvents of a `--json` run's stdout (every line must be a protocol event)."""
+    ev = cli_events.BakeEvents()
+    for line in result.stdout.splitlines():
+        ev.feed(line)
+    return ev
 
 
 def listing(directory):
@@ -273,8 +295,10 @@ def test_bake_then_info(out_dir):
     out = out_dir / "cumulus.vdb"
     r = run("bake", "--preset", "cumulus", "--resolution", 32, "--output", out)
     assert r.returncode == 0, r.stderr
-    assert any(line.startswith("bake: ") and line.endswith("%") for line in r.stdout.splitlines())
+    # human output: results on stdout, progress on stderr (a pipe: whole tens of percent)
     assert f"wrote {out}" in r.stdout
+    assert "bake: 100%" in r.stderr.splitlines(), r.stderr
+    assert "%" not in r.stdout, r.stdout
     assert listing(out_dir) == ["cumulus.vdb"]
 
     text = run("info", out)
@@ -301,7 +325,7 @@ def test_bake_options(out_dir, params_file):
     r = run("bake", "--params", p, "--resolution", 24, "--time", 2.5, "--half", "--no-lod", "--threads", 1,
             "--quiet", "--output", out)
     assert r.returncode == 0, r.stderr
-    assert not any(l.endswith("%") for l in r.stdout.splitlines()), "--quiet prints no progress"
+    assert "%" not in r.stdout + r.stderr, ("--quiet prints no progress", r.stdout, r.stderr)
     (g,) = info_json(out)["grids"]
     assert g["half"] is True
     assert float(g["metadata"]["cloudgen_time"]) == 2.5
@@ -352,12 +376,12 @@ def test_preview_png_and_exr(out_dir):
 def test_cancel_leaves_nothing(sig, out_dir):
     out = out_dir / "big.vdb"
     proc = subprocess.Popen([CLOUDGEN, "bake", "--preset", "cumulus", "--resolution", "384", "--threads", "1",
-                             "--output", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             "--output", str(out), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         seen = []
         for line in proc.stdout:
             seen.append(line)
-            if line.startswith("bake: ") and line.rstrip().endswith("%"):
+            if cli_events.parse(line)["event"] == "progress":
                 break
         assert proc.poll() is None, f"the bake ended before it could be cancelled: {seen}"
         proc.send_signal(sig)

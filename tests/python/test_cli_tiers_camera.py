@@ -2,8 +2,8 @@
 sequence bakes that copy or keep unchanged frames (`--frames`, `--sequence`,
 `--update`, the `cloudgen_bake_key` metadata).
 
-Interfaces: /tmp/issue6/INTERFACES.md (tiers, field key, camera-aware bake) and
-`cloudgen bake --help`. Every assertion states its tolerance; failures print the
+Interfaces: `cloudgen bake --help`, docs/camera.md and docs/cli_protocol.md (bakes
+here run with --json and are read through addon/cli_events.py). Every assertion states its tolerance; failures print the
 inputs. Resolutions stay <= 48 (the draft tier's own 64 excepted) so the file runs
 in a few seconds. No test asserts how long anything takes.
 
@@ -13,13 +13,13 @@ tests that need it are skipped where it is missing.
 """
 import json
 import math
-import re
 import subprocess
 import sys
 
 import numpy as np
 import pytest
-from test_cli import REPO_ROOT, TIMEOUT, expect_usage_error, info_json, listing, run
+from test_cli import REPO_ROOT, TIMEOUT, cli_events, events, expect_usage_error, info_json, listing
+from test_cli import run as run_cli
 
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
 CUMULUS_BOX = (4.0, 4.0, 3.0)  # cumulus preset box_size: origin at the centre, x/y in [-2, 2], z in [-1.5, 1.5]
@@ -42,9 +42,13 @@ def looking_along_y(y, sign=+1):
 NARROW = {"camera_to_cloud": [[1, 0, 0, 0], [0, 0, -1, -6], [0, 1, 0, 0], [0, 0, 0, 1]],
           "tan_half_fov": [0.0625, 0.0625], "resolution": [4, 4], "margin": 0}
 
-CAMERA_LINE = re.compile(r"^camera: nearest visible depth (\S+), pixel footprint (\S+), voxel (\S+), margin (\S+)$",
-                         re.M)
-TILES_LINE = re.compile(r"^camera: voxel (\S+), (\d+) visible tiles of (\d+)$", re.M)
+
+
+def run(*args):
+    """`cloudgen ARGS`; bakes speak the JSON-lines protocol (--json added)."""
+    if args and args[0] == "bake" and "--json" not in args:
+        args = (*args, "--json")
+    return run_cli(*args)
 
 
 @pytest.fixture
@@ -73,13 +77,14 @@ def grid(path):
 
 
 def camera_lines(result):
-    """(depth, footprint, voxel, margin) or None, and (voxel, visible, total) of a camera bake."""
+    """(depth, footprint, voxel, margin) or None, and (voxel, visible tiles, total tiles) of
+    a camera bake, from its `camera` and `wrote` events."""
     assert result.returncode == 0, (result.returncode, result.stdout, result.stderr)
-    m = CAMERA_LINE.search(result.stdout)
-    t = TILES_LINE.search(result.stdout)
-    assert t, f"no `camera: voxel V, N visible tiles of M` line in:\n{result.stdout}"
-    fit = tuple(float(x) for x in m.groups()) if m else None
-    return fit, (float(t.group(1)), int(t.group(2)), int(t.group(3)))
+    ev = events(result)
+    assert ev.camera is not None and len(ev.written) == 1, f"no camera/wrote event in:\n{result.stdout}"
+    cam, wrote = ev.camera, ev.written[0]
+    fit = (cam["nearest_depth"], cam["footprint"], cam["voxel"], cam["margin"]) if cam["visible"] else None
+    return fit, (wrote["voxel"], wrote["tiles_total"] - wrote["tiles_culled"], wrote["tiles_total"])
 
 
 def read_voxels(path):
@@ -281,8 +286,8 @@ def test_camera_looking_away_bakes_an_empty_file(inputs, out_dir):
     out = out_dir / "away.vdb"
     r = run("bake", "--preset", "cumulus", "--camera", cam, "--output", out)
     assert r.returncode == 0, (r.stdout, r.stderr)
-    assert "outside the view" in r.stdout, r.stdout
-    assert re.search(r"^camera: voxel \S+, 0 visible tiles of \d+$", r.stdout, re.M), r.stdout
+    fit, (_, visible, total) = camera_lines(r)
+    assert fit is None and visible == 0 and total > 0, r.stdout  # the cloud box is outside the view
     g = grid(out)
     assert g["name"] == "density" and g["active_voxels"] == 0, g  # exact
 
@@ -388,7 +393,10 @@ STILL = {"preset": "cumulus", "evolution": 0, "wind_strength": 0}
 
 
 def lines_of(result, verb):
-    return [l for l in result.stdout.splitlines() if l.startswith(verb + " ")]
+    """The `verb` events (wrote, copied, kept) of a --json bake, as (path, source frame or None)."""
+    ev = events(result)
+    chosen = {"wrote": ev.written, "copied": ev.copied, "kept": ev.kept}[verb]
+    return [(e["path"], e.get("source_frame")) for e in chosen]
 
 
 def test_still_cloud_frames_are_copied_then_kept(inputs, out_dir):
@@ -399,16 +407,16 @@ def test_still_cloud_frames_are_copied_then_kept(inputs, out_dir):
     assert r.returncode == 0, (r.stdout, r.stderr)
     names = [f"s_{n:04d}.vdb" for n in range(1, 5)]
     assert listing(out_dir) == names
-    assert lines_of(r, "wrote") and lines_of(r, "wrote")[0].startswith(f"wrote {out_dir / names[0]} "), r.stdout
+    assert lines_of(r, "wrote") == [(str(out_dir / names[0]), None)], r.stdout
     assert len(lines_of(r, "wrote")) == 1, r.stdout
-    assert lines_of(r, "copied") == [f"copied {out_dir / n} (same field as frame 1)" for n in names[1:]], r.stdout
+    assert lines_of(r, "copied") == [(str(out_dir / n), 1) for n in names[1:]], r.stdout
     data = [(out_dir / n).read_bytes() for n in names]
     assert all(d == data[0] for d in data), "copied frames are byte-identical to frame 1"
 
     # --update: every stored bake key matches -> all kept, files untouched (exact bytes).
     r = run(*args, "--update")
     assert r.returncode == 0, r.stderr
-    assert lines_of(r, "kept") == [f"kept {out_dir / n} (unchanged)" for n in names], r.stdout
+    assert lines_of(r, "kept") == [(str(out_dir / n), None) for n in names], r.stdout
     assert not lines_of(r, "wrote") and not lines_of(r, "copied"), r.stdout
     assert [(out_dir / n).read_bytes() for n in names] == data
 
@@ -417,7 +425,7 @@ def test_still_cloud_frames_are_copied_then_kept(inputs, out_dir):
     r = run(*args, "--update")
     assert r.returncode == 0, r.stderr
     assert len(lines_of(r, "kept")) == 3, r.stdout
-    assert lines_of(r, "copied") == [f"copied {out_dir / names[2]} (same field as frame 1)"], r.stdout
+    assert lines_of(r, "copied") == [(str(out_dir / names[2]), 1)], r.stdout
     assert (out_dir / names[2]).read_bytes() == data[0]
 
     # Change the density: the stored keys no longer match -> baked again, not kept.
@@ -465,11 +473,10 @@ def test_sequence_file_per_frame_params(inputs, out_dir):
     r = run("bake", "--sequence", inputs(seq, "seq.json"), "--resolution", 16, "--output", out_dir / "q_##.vdb")
     assert r.returncode == 0, (r.stdout, r.stderr)
     assert listing(out_dir) == ["q_01.vdb", "q_02.vdb", "q_03.vdb"]
-    verbs = [l.split()[0] + " " + l.split()[1] for l in r.stdout.splitlines()
-             if l.split()[0] in ("wrote", "copied", "kept")]
-    assert verbs == [f"wrote {out_dir / 'q_01.vdb'}", f"copied {out_dir / 'q_02.vdb'}",
-                     f"wrote {out_dir / 'q_03.vdb'}"], r.stdout
-    assert "(same field as frame 1)" in r.stdout
+    verbs = [(e["event"], e["path"], e.get("source_frame"))
+             for e in map(cli_events.parse, r.stdout.splitlines()) if e["event"] in ("wrote", "copied", "kept")]
+    assert verbs == [("wrote", str(out_dir / "q_01.vdb"), None), ("copied", str(out_dir / "q_02.vdb"), 1),
+                     ("wrote", str(out_dir / "q_03.vdb"), None)], r.stdout
     for name, density in (("q_01.vdb", 0.4), ("q_02.vdb", 0.4), ("q_03.vdb", 0.6)):
         stored = json.loads(grid(out_dir / name)["metadata"]["cloudgen_params"])["density"]
         assert stored == pytest.approx(density, rel=1e-6), (name, stored)  # float32 round trip

@@ -58,4 +58,8 @@ std::string declarations_json(int indent = 2);
 // The library version, for metadata.
 const char* version();
 
+// Version of the CLI's machine-readable output (`--json`, docs/cli_protocol.md).
+// Bumped only when an event loses a field or a field changes its meaning.
+inline constexpr int kProtocolVersion = 1;
+
 }  // namespace cg
