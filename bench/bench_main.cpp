@@ -221,7 +221,7 @@ json bench_samples(const Options& o) {
 
 // ------------------------------------------------------------------- bake ---
 
-constexpr double kGeometryNodesVoxelsPerS = 1.4e6;  // NOTES.md "Anchors measured", 256^3
+constexpr double kGeometryNodesVoxelsPerS = 1.4e6;  // docs/platform.md "Measured anchors", 256^3
 
 // Bakes of 256^3 and more take seconds each: at most 5 repetitions there.
 int bake_reps(const Options& o, int resolution) { return resolution >= 256 ? std::min(o.reps, 5) : o.reps; }
