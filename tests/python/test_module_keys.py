@@ -1,6 +1,6 @@
-"""cloudgen_native.tiers(), field_key() and density(..., footprint=) (issue 6).
+"""cloudgen_native.tiers(), field_key() and density(..., footprint=).
 
-Interfaces: /tmp/issue6/INTERFACES.md. Every assertion states its tolerance;
+Interfaces: the module's docstrings (help(cloudgen_native)). Every assertion states its tolerance;
 failures print the parameters involved. Pure in-process: no CLI, no files written.
 """
 import json
