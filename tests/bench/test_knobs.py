@@ -1,0 +1,43 @@
+"""The sweep's knob rows (bench/accuracy/knobs.py) make the points the former
+sweep.py made (its table + if-chain), captured before the refactor in
+data/knob_points_before.json with fixed tiers and preset noise details: same
+points, same key order (the cache files store them), same settings per scene."""
+import json
+import pathlib
+
+import pytest
+from accuracy import knobs, scenes
+from accuracy.config import SweepConfig
+
+BEFORE = json.loads((pathlib.Path(__file__).parent / "data" / "knob_points_before.json").read_text())
+
+
+def points_of(quick):
+    cfg = SweepConfig(out=pathlib.Path("/nonexistent"), quick=quick, _tiers=BEFORE["tiers"])
+    per = {}
+    for scene in scenes.SCENES:
+        pts = []
+        for knob in knobs.KNOBS:
+            if knob.runs_on(scene):
+                for setting in knob.settings_for(scene, cfg, {"noise_detail": BEFORE["noise_detail"][scene]}):
+                    pts += knob.points(setting, cfg)
+        per[scene] = pts
+    return per
+
+
+@pytest.mark.parametrize("mode", ["full", "quick"])
+def test_knob_rows_make_the_points_of_before(mode):
+    got = points_of(mode == "quick")
+    want = BEFORE[mode]
+    assert list(got) == list(want)
+    for scene in want:
+        g = [(p["knob"], p["setting"], p.get("variant")) for p in got[scene]]
+        w = [(p["knob"], p["setting"], p.get("variant")) for p in want[scene]]
+        assert g == w, f"{mode} {scene}: settings differ"
+        for a, b in zip(got[scene], want[scene]):
+            assert json.dumps(a, ensure_ascii=False) == json.dumps(b, ensure_ascii=False), f"{mode} {scene}:\n{a}\n{b}"
+
+
+def test_knob_names_and_order():
+    assert [k.name for k in knobs.KNOBS] == BEFORE["knobs"]
+    assert set(knobs.BY_NAME) == set(BEFORE["knobs"])
