@@ -86,7 +86,7 @@ def machine_info(read=None):
     """What machine measured the numbers (Linux /proc; empty / None where unknown):
 
     cpu_model, cpu_vendor, cpu_family_model_stepping ("6/85/7"), cpu_mhz_nominal (float or None),
-    simd (the flags of SIMD that the CPU has), hypervisor (bool: a virtual machine),
+    simd (the flags of SIMD that the CPU has), hypervisor (bool: a virtual machine; None: unknown),
     nproc (cores this process may use), mem_total_gib (None when /proc/meminfo is
     unreadable), kernel, load_average (1, 5, 15 minutes, or None).
 

@@ -22,6 +22,7 @@ temporary directory (a smoke test of a few minutes).
 from __future__ import annotations
 
 import argparse
+import json
 import pathlib
 import sys
 import tempfile
@@ -68,7 +69,18 @@ def config_of(a):
         out = pathlib.Path(a.out)
     else:
         out = pathlib.Path(tempfile.mkdtemp(prefix="cloudgen-accuracy-")) if a.quick else ROOT / "bench/results"
-    return SweepConfig(out=out, quick=a.quick, runs=a.runs or (1 if a.quick else 2), machine=machine_info())
+    cfg = SweepConfig(out=out, quick=a.quick, runs=a.runs or (1 if a.quick else 2))
+    cfg.machine = measuring_machine(cfg) if a.results_only else machine_info()
+    return cfg
+
+
+def measuring_machine(cfg):
+    """The machine that measured the cache: the one accuracy.json names (--results-only
+    rewrites it after the sweep, when the load is the sweep's own), else this one now."""
+    try:
+        return json.loads(cfg.results.read_text())["machine"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return machine_info()
 
 
 def sweep(cfg, want_scenes, want_knobs, force=False):

@@ -99,3 +99,16 @@ def test_results_from_the_committed_cache_are_the_committed_results(tmp_path):
     (tmp_path / "accuracy_cache").symlink_to(ROOT / "bench/results/accuracy_cache")
     results.write_results(cfg)
     assert json.loads(cfg.results.read_text()) == committed
+
+
+def test_results_only_keeps_the_measuring_machine(tmp_path, capsys):
+    from accuracy import sweep
+
+    measured = {"cpu_model": "Measuring CPU", "nproc": 2, "load_average": [2.5, 2.0, 1.5]}
+    (tmp_path / "accuracy.json").write_text(json.dumps({"machine": measured}))
+    assert sweep.main(["--results-only", "--out", str(tmp_path)]) == 0
+    got = json.loads((tmp_path / "accuracy.json").read_text())
+    assert got["machine"] == measured and got["scenes"] == {}, got
+    fresh = tmp_path / "fresh"
+    assert sweep.main(["--results-only", "--out", str(fresh)]) == 0
+    assert json.loads((fresh / "accuracy.json").read_text())["machine"]["cpu_model"], "else this machine"
