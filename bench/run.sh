@@ -64,8 +64,7 @@ if [ "$callgrind" = 1 ]; then
     if [ "$(id -u)" = 0 ]; then sudo=""; else sudo="sudo"; fi
     $sudo apt-get install -y valgrind || { $sudo apt-get update && $sudo apt-get install -y valgrind; }
   fi
-  "$python" bench/report.py callgrind "$bench" bench/results/callgrind.json.tmp
-  mv bench/results/callgrind.json.tmp bench/results/callgrind.json
+  "$python" bench/report.py callgrind "$bench" bench/results/callgrind.json  # written atomically
 fi
 
 # ---- the report ----

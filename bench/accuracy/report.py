@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """bench/accuracy/report.py — docs/accuracy.md and docs/images/pareto_<scene>.png
-from the accuracy sweep's results (schema: bench/results/accuracy.json, issue 6).
+from the accuracy sweep's results (bench/results/accuracy.json; schema: bench/accuracy/results.py).
 
   python bench/accuracy/report.py [--results bench/results/accuracy.json]
                                   [--docs docs/accuracy.md] [--images docs/images]
