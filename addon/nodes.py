@@ -19,7 +19,7 @@ message naming the parameter.
 """
 import bpy
 
-from . import blender_nodes, bridge
+from . import blender_nodes, bridge, osl_temp, volume_material
 
 MAIN_GROUP = "Cloud Main"
 NOISE_GROUP = "Cloud Noise"
@@ -96,7 +96,8 @@ def _interface(ng, params, extra_inputs=(), outputs=()):
 def _script(nt, shader):
     """A Script node holding the shader as internal text; compiled when this Blender has OSL."""
     if blender_nodes.osl_available():
-        node = blender_nodes.script_node(nt, shader, "INTERNAL")
+        with osl_temp.private_tempdir():  # Cycles' compile leaves a temporary .oso behind
+            node = blender_nodes.script_node(nt, shader, "INTERNAL")
     else:  # e.g. Debian's 3.4: the text is stored, the node has no sockets, the group outputs 0
         text = bpy.data.texts.get(f"{shader}.osl") or bpy.data.texts.new(f"{shader}.osl")
         text.clear()
@@ -267,13 +268,12 @@ def time_follows_frame(material) -> bool:
 
 
 def build_material(name, values: dict, look: dict, obj):
-    """The cloud material: Cloud Noise → Cloud Main (Distortion Noise) → volume shader.
-    Node names: "Cloud Noise", "Cloud Main" (group nodes), "Cloud Volume",
-    "Material Output"."""
+    """The cloud material: Cloud Noise → Cloud Main (Distortion Noise) → volume shader
+    (volume_material.py). Node names: "Cloud Noise", "Cloud Main" (group nodes),
+    "Cloud Volume", "Material Output"."""
     mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
+    volume = volume_material.volume_material(mat, look)
     nt = mat.node_tree
-    nt.nodes.clear()
     noise = nt.nodes.new("ShaderNodeGroup")
     noise.node_tree = noise_group()
     main = nt.nodes.new("ShaderNodeGroup")
@@ -283,33 +283,6 @@ def build_material(name, values: dict, look: dict, obj):
     set_node_values(noise, values, group_parameters(NOISE_GROUP))
     set_node_values(main, values, group_parameters(MAIN_GROUP))
     nt.links.new(noise.outputs["Noise"], main.inputs[DISTORTION_NOISE])
-    volume = volume_shader(nt, look)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    out.name = "Material Output"
-    volume.location, out.location = (100, 0), (350, 0)
     nt.links.new(main.outputs["Density"], volume.inputs["Density"])
-    nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
-    mat.cycles.volume_step_rate = float(look.get("step_rate", 0.2))
     drive_box_inputs(mat, obj)
     return mat
-
-
-def mie_available() -> bool:
-    rna = bpy.types.ShaderNodeVolumeScatter.bl_rna.properties
-    return "phase" in rna and "MIE" in {i.identifier for i in rna["phase"].enum_items}
-
-
-def volume_shader(nt, look: dict):
-    """Volume Scatter with the Mie phase where Cycles has it (4.3+: cloud droplets),
-    else Principled Volume (Henyey–Greenstein with the preset's anisotropy)."""
-    color = tuple(look.get("color", (1.0, 1.0, 1.0)))[:3] + (1.0,)
-    if mie_available():
-        node = nt.nodes.new("ShaderNodeVolumeScatter")
-        node.phase = "MIE"
-        node.inputs["Diameter"].default_value = float(look.get("droplet_diameter", 20.0))
-    else:
-        node = nt.nodes.new("ShaderNodeVolumePrincipled")
-        node.inputs["Anisotropy"].default_value = float(look.get("anisotropy", 0.3))
-    node.inputs["Color"].default_value = color
-    node.name = "Cloud Volume"
-    return node

@@ -9,9 +9,13 @@ Main, a camera, a sun and a blue sky — and renders it on the CPU with OSL,
 denoising off (the output is what the model computes, not a denoiser's guess).
 Writes the image atomically.
 
-The Principled Volume takes the preset's material settings ("material" in
+The material comes from the add-on's one volume-material builder
+(addon/volume_material.py, loaded by its path) with a Principled Volume on every
+Blender version (phase "HG": the benchmarks' references are rendered with it);
+it takes the preset's material settings ("material" in
 native/presets/clouds.json: anisotropy, color, step_rate); --step-rate
-overrides the step rate. With --vdb the same scene renders a baked VDB
+overrides the step rate. The OSL compiles run in a private temporary folder
+(addon/osl_temp.py) that is removed afterwards. With --vdb the same scene renders a baked VDB
 (`cloudgen bake` of the same parameters) instead of the procedural material: a
 Volume object at the box's centre (the grid is in the cloud's local frame,
 scene units) whose Principled Volume (same colour and anisotropy) takes the
@@ -96,6 +100,20 @@ def resolve_params(args):
     return values
 
 
+def _addon_file(name):
+    """addon/<name>.py loaded by its path (a module of the add-on that imports none of
+    the add-on's others), once."""
+    import importlib.util
+
+    key = f"cloudgen_addon_{name}"
+    if key not in sys.modules:
+        spec = importlib.util.spec_from_file_location(key, ROOT / "addon" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        sys.modules[key] = module
+    return sys.modules[key]
+
+
 def build_scene(values, args):
     import blender_nodes
     import bpy
@@ -125,29 +143,25 @@ def build_scene(values, args):
     cloud.name = "Cloud"
     cloud.scale = box
     mat = bpy.data.materials.new("Cloud")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
     material = resolve_material(args)
-    volume = nt.nodes.new("ShaderNodeVolumePrincipled")
-    volume.inputs["Color"].default_value = (*material["color"], 1.0)
-    volume.inputs["Anisotropy"].default_value = material["anisotropy"]
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(volume.outputs["Volume"], out.inputs["Volume"])
+    # the add-on's one volume-material builder, always with a Principled Volume (HG,
+    # the preset's anisotropy): the benchmarks' references are rendered with it
+    step = getattr(args, "step_rate", None)
     if vdb:
-        # the Principled Volume multiplies Density by its Density Attribute, "density" by
-        # default: the grid, so Density stays 1 (linking the grid in too would square it)
-        volume.inputs["Density"].default_value = 1.0
-        volume.inputs["Density Attribute"].default_value = "density"
-        step = getattr(args, "step_rate", None)
-        mat.cycles.volume_step_rate = 1.0 if step is None else step  # a VDB steps at its voxel size
+        step = 1.0 if step is None else step  # a VDB steps at its voxel size (as the add-on's bake)
+        _addon_file("volume_material").volume_material(mat, material, grid="density", phase="HG",
+                                                       step_rate=step)
         cloud = vdb_object(vdb, cloud, mat)
     else:
+        volume = _addon_file("volume_material").volume_material(mat, material, phase="HG",
+                                                                step_rate=material["step_rate"])
+        nt = mat.node_tree
         coords = nt.nodes.new("ShaderNodeTexCoord")
         defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
-        main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"], defines=defines)
+        with _addon_file("osl_temp").private_tempdir():  # Cycles' compiles leave .oso files otherwise
+            main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"],
+                                                        defines=defines)
         nt.links.new(main.outputs["Density"], volume.inputs["Density"])
-        mat.cycles.volume_step_rate = material["step_rate"]
         cloud.data.materials.append(mat)
 
     cam_data = bpy.data.cameras.new("Camera")
