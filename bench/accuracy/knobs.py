@@ -22,13 +22,14 @@ PRESET = "preset"  # a noise_detail setting: the preset's own value
 
 @dataclass(frozen=True)
 class Knob:
-    """name: as in the results; settings / quick: the settings swept (text), in a full
+    """name: as in the results; title: the report's heading; settings / quick: the settings swept (text), in a full
     run and with --quick, or a function of the configuration (the tiers);
     make_point(knob, setting, cfg) -> [point, ...]; scenes: the scenes it runs on
     (None: all); extra_settings: more settings on some scenes (full runs only);
     available(cfg): whether this build / machine can measure it."""
 
     name: str
+    title: str
     settings: tuple | Callable[[SweepConfig], list]
     quick: tuple
     make_point: Callable[[Knob, str, SweepConfig], list]
@@ -174,21 +175,34 @@ def camera_aware(k, s, cfg):
 # -------------------------------------------------------------------- rows --
 
 KNOBS = (
-    Knob("procedural", ("osl",), ("osl",), procedural),
-    Knob("bake_resolution", ("64", "128", "256", "512"), ("32", "64"), bake_resolution),
-    Knob("samples", ("4", "16", "64", "256"), ("2", "8"), samples),
-    Knob("step_rate", ("2", "1", "0.5", "0.25", "0.177"), ("2", "0.5"), step_rate),
-    Knob("bake_half", ("128", "256"), ("64",), bake_half),
-    Knob("lod", ("on@128", "off@128", "on@256", "off@256"), ("on@64", "off@64"), lod),
-    Knob("tolerance", ("0", "0.01", "0.05", "0.1", "0.3", "1"), ("0", "0.1"), tolerance),
-    Knob("skip_empty", ("on@128", "off@128"), ("off@64",), skip_empty),
-    Knob("noise_detail", ("1", "2", "3", "4", PRESET), ("2", PRESET), noise_detail),
-    Knob("preview_resolution", ("64", "128", "256", "512", "1024"), ("64", "256"), preview_resolution),
-    Knob("tier", lambda cfg: list(cfg.tiers()), ("draft",), tier, available=lambda cfg: bool(cfg.tiers())),
-    Knob("camera_aware", ("ppv=1", "ppv=2", "ppv=4"), ("ppv=2",), camera_aware,
+    Knob("procedural", "Procedural (OSL at render time, no bake)",
+         ("osl",), ("osl",), procedural),
+    Knob("bake_resolution", "Bake resolution (uniform VDB)",
+         ("64", "128", "256", "512"), ("32", "64"), bake_resolution),
+    Knob("samples", "Samples per pixel",
+         ("4", "16", "64", "256"), ("2", "8"), samples),
+    Knob("step_rate", "Volume step rate",
+         ("2", "1", "0.5", "0.25", "0.177"), ("2", "0.5"), step_rate),
+    Knob("bake_half", "Half-float VDB",
+         ("128", "256"), ("64",), bake_half),
+    Knob("lod", "Level of detail (octaves capped at the voxel size)",
+         ("on@128", "off@128", "on@256", "off@256"), ("on@64", "off@64"), lod),
+    Knob("tolerance", "Bake tolerance",
+         ("0", "0.01", "0.05", "0.1", "0.3", "1"), ("0", "0.1"), tolerance),
+    Knob("skip_empty", "Skipping empty tiles",
+         ("on@128", "off@128"), ("off@64",), skip_empty),
+    Knob("noise_detail", "Noise detail (octaves)",
+         ("1", "2", "3", "4", PRESET), ("2", PRESET), noise_detail),
+    Knob("preview_resolution", "Preview slice resolution (field error only; time = slice time)",
+         ("64", "128", "256", "512", "1024"), ("64", "256"), preview_resolution),
+    Knob("tier", "Quality tiers (Draft / Preview / Final)",
+         lambda cfg: list(cfg.tiers()), ("draft",), tier, available=lambda cfg: bool(cfg.tiers())),
+    Knob("camera_aware", "Camera-aware bake",
+         ("ppv=1", "ppv=2", "ppv=4"), ("ppv=2",), camera_aware,
          extra_settings={"cumulus_closeup": ("ppv=1,margin=0", "ppv=1,margin=cli")},  # where the margin can matter
          available=lambda cfg: "--camera" in cfg.cli_help()),
-    Knob("volume_biased", ("biased", "unbiased"), ("biased", "unbiased"), volume_biased, scenes=("cumulus",),
+    Knob("volume_biased", "Biased volume rendering (Blender 5.0)",
+         ("biased", "unbiased"), ("biased", "unbiased"), volume_biased, scenes=("cumulus",),
          available=lambda cfg: PY50.exists()),
 )
 BY_NAME = {k.name: k for k in KNOBS}

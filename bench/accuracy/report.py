@@ -25,6 +25,7 @@ if str(HERE.parent) not in sys.path:
 from common import atomic_write, splice
 
 from accuracy.analysis import camera_rows, id_of, knobs_in, label, point_time, scene_front
+from accuracy.knobs import BY_NAME as KNOB_ROWS
 from accuracy.pareto import number as num
 from accuracy.plot import plot_scene
 
@@ -33,21 +34,6 @@ END = "<!-- generated:end -->"
 NEW_DOC = ("# Accuracy: the speed/accuracy trade, measured\n\n"
            "Regenerate the tables and plots with `python bench/accuracy/report.py`; "
            "text outside the generated markers is kept.\n\n")
-KNOB_TITLES = {
-    "tier": "Quality tiers (Draft / Preview / Final)",
-    "procedural": "Procedural (OSL at render time, no bake)",
-    "bake_resolution": "Bake resolution (uniform VDB)",
-    "bake_half": "Half-float VDB",
-    "noise_detail": "Noise detail (octaves)",
-    "lod": "Level of detail (octaves capped at the voxel size)",
-    "tolerance": "Bake tolerance",
-    "skip_empty": "Skipping empty tiles",
-    "camera_aware": "Camera-aware bake",
-    "step_rate": "Volume step rate",
-    "samples": "Samples per pixel",
-    "volume_biased": "Biased volume rendering (Blender 5.0)",
-    "preview_resolution": "Preview slice resolution (field error only; time = slice time)",
-}
 
 
 def fmt(v, digits=3):
@@ -189,7 +175,8 @@ def render_markdown(results, images=None):
             continue
         table = knob_table(results, k, fronts)
         if table:
-            parts.append(f"## {KNOB_TITLES.get(k, k)}\n\nKnob `{k}`.\n\n{table}")
+            title = KNOB_ROWS[k].title if k in KNOB_ROWS else k
+            parts.append(f"## {title}\n\nKnob `{k}`.\n\n{table}")
     if not scenes:
         parts.append("_No scenes in the results._")
     return "\n\n".join(parts) + "\n"

@@ -41,3 +41,14 @@ def test_knob_rows_make_the_points_of_before(mode):
 def test_knob_names_and_order():
     assert [k.name for k in knobs.KNOBS] == BEFORE["knobs"]
     assert set(knobs.BY_NAME) == set(BEFORE["knobs"])
+
+
+def test_every_knob_titles_its_report_section():
+    from accuracy import report
+
+    assert all(k.title and k.title != k.name for k in knobs.KNOBS)
+    results = {"scenes": {"s": {"points": [{"knob": "lod", "setting": "on@64", "time_s": 1.0, "flip": 0.1},
+                                           {"knob": "new_knob", "setting": "x", "time_s": 2.0, "flip": 0.2}]}}}
+    text = report.render_markdown(results)
+    assert "## Level of detail (octaves capped at the voxel size)\n\nKnob `lod`." in text, text
+    assert "## new_knob\n\nKnob `new_knob`." in text, "a knob without a row is titled by its name"
