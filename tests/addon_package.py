@@ -21,7 +21,8 @@ def is_stale():
     init = PACKAGE / "__init__.py"
     if not init.exists() or not (PACKAGE / "bake.py").exists():
         return True
-    built = init.stat().st_mtime
+    # the folder's own time is when it was assembled (the files keep their sources' times)
+    built = PACKAGE.stat().st_mtime
     return any(f.stat().st_mtime > built for f in _sources() if f.is_file())
 
 

@@ -9,8 +9,8 @@ import os
 import pathlib
 import shutil
 import subprocess
-import sys
 
+import addon_package
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -28,10 +28,7 @@ if not os.path.exists(BLENDER):
 def env(tmp_path_factory):
     """Isolated user dirs with the packaged add-on linked in; package rebuilt when stale."""
     base = tmp_path_factory.mktemp("b34")
-    init = PACKAGE / "__init__.py"
-    sources = [f for f in (ROOT / "addon").iterdir() if f.is_file()]
-    if not (PACKAGE / "bake.py").exists() or any(f.stat().st_mtime > init.stat().st_mtime for f in sources):
-        subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py")], check=True)
+    addon_package.ensure()
     (base / "scripts" / "addons").mkdir(parents=True)
     (base / "scripts" / "addons" / "cloudgen").symlink_to(PACKAGE)
     (base / "config").mkdir()
