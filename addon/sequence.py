@@ -33,18 +33,6 @@ def sequence_object(frames: list, fps: float) -> dict:
     return {"fps": float(fps), "frames": frames}
 
 
-def distinct_fields(frames: list, key_of):
-    """How many different density fields the frames hold (by key_of(params); None when
-    key_of returns None, i.e. the core has no field_key)."""
-    keys = []
-    for entry in frames:
-        k = key_of(entry["params"])
-        if k is None:
-            return None
-        keys.append(k)
-    return len(set(keys))
-
-
 def summary(result, frames) -> str:
     """'5 frames: 1 baked, 4 copied, 0 kept' from a BakeResult."""
     n = frames[1] - frames[0] + 1 if frames else 1

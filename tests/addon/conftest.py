@@ -2,7 +2,8 @@
 packaged add-on, build/addon/cloudgen (scripts/package_addon.py; repackaged
 here when addon/ or osl/ is newer than the package), enabled with
 addon_utils from a sys.path entry, and disabled in teardown — the 4.5 wheel
-hangs at exit while an operator class is registered (NOTES.md).
+hangs at exit while an operator class or a bpy.app.timers timer is still
+registered.
 
 Without bpy the directory is skipped, unless CLOUDGEN_REQUIRE_BPY=1.
 """
