@@ -14,12 +14,12 @@ bl_info = {
     "category": "Add Mesh",
 }
 
-from . import bake, bridge, operators, preview, props, quality, ui  # noqa: E402
+from . import bake, bake_panel, bridge, operators, preview, props, quality, ui  # noqa: E402
 
 # Each module has `classes` (registered in order) and may have on_register /
-# on_unregister. Adding a module (e.g. bake) is one entry here.
-# quality and bake after ui: their panels' parent is CLOUDGEN_PT_main
-_modules = (props, operators, preview, ui, quality, bake)
+# on_unregister. Adding a module is one entry here.
+# quality and bake_panel after ui: their panels' parent is CLOUDGEN_PT_main
+_modules = (props, operators, preview, ui, quality, bake, bake_panel)
 
 _registered = []
 

@@ -1,19 +1,22 @@
-"""Run `cloudgen bake` as a subprocess: progress, cancel, errors. No bpy here,
+"""Run `cloudgen bake --json` as a subprocess: progress, cancel, errors. No bpy here,
 so this module is tested with plain pytest (tests/addon_bake/test_bake_process.py).
 
-    job = BakeJob(cloudgen, params, resolution=64, output="/tmp/c.vdb")
+    job = BakeJob(cloudgen, params, resolution=64, output="clouds/c.vdb")
     job.start()
     while job.poll() is None:      # non-blocking; job.progress is 0..100
         ...
-    result = job.poll()            # BakeResult: ok, code, message, paths
+    result = job.poll()            # BakeResult: ok, code, message, files, paths, copied, kept
 
 or `run_bake(...)` for a blocking bake that raises BakeError.
 
-The CLI's contract (`cloudgen bake --help`): `bake: P%` lines on stdout, one
-`wrote PATH ...`, `copied PATH (same field as frame N)` or `kept PATH (unchanged)`
-line per file (BakeResult.paths / .copied / .kept), a one-line
-`cloudgen: error: ...` on stderr, exit 0 ok / 1 I/O failure / 2 bad argument / 130 cancelled, files written
-atomically (an error or SIGTERM leaves no partial file; finished frames stay).
+The CLI's protocol (docs/cli_protocol.md), read by cli_events.BakeEvents: one JSON
+event per stdout line. The `plan` event names every file the run writes (the
+CLI alone names files: for a sequence the LAST run of '#' in --output is the
+frame number); `progress`, and per file `wrote`, `copied` (with its source) or
+`kept`; a failed run ends with an `error` event (code, message) and also prints
+`cloudgen: error: ...` on stderr, the fallback when no event came. Exit 0 ok,
+1 I/O failure, 2 bad argument, 130 cancelled; files are written atomically (an
+error or SIGTERM leaves no partial file; finished frames stay).
 
 Defence in depth: a full disk can go unnoticed by OpenVDB's stream writer
 (the CLI then exits 0 with a truncated file), so after a successful bake every
@@ -32,11 +35,12 @@ import tempfile
 import threading
 from dataclasses import dataclass, field
 
+try:
+    from . import cli_events
+except ImportError:  # loaded by its path with addon/ on sys.path (tests/addon_bake/test_bake_process.py)
+    import cli_events
+
 OK, IO_ERROR, BAD_ARGUMENT, CANCELLED = 0, 1, 2, 130
-_PROGRESS = re.compile(r"^bake: (\d+(?:\.\d+)?)%\s*$")
-_WROTE = re.compile(r"^wrote (.+?) \(")
-_COPIED = re.compile(r"^copied (.+?) \(same field as frame (-?\d+)\)")
-_KEPT = re.compile(r"^kept (.+?) \(unchanged\)")
 _KIND = {IO_ERROR: "I/O error", BAD_ARGUMENT: "bad argument", CANCELLED: "cancelled"}
 
 
@@ -44,9 +48,11 @@ _KIND = {IO_ERROR: "I/O error", BAD_ARGUMENT: "bad argument", CANCELLED: "cancel
 class BakeResult:
     code: int
     message: str = ""
-    paths: list = field(default_factory=list)    # baked (`wrote`)
+    paths: list = field(default_factory=list)    # baked (`wrote` events' paths)
     copied: list = field(default_factory=list)   # (path, frame it repeats) (`copied`)
     kept: list = field(default_factory=list)     # unchanged outputs left as they were (`kept`)
+    files: list = field(default_factory=list)    # every output, in frame order (the `plan`)
+    frames: list = field(default_factory=list)   # their frame numbers (None for a single bake)
 
     def counts(self) -> str:
         """'3 baked, 2 copied, 0 kept'"""
@@ -68,25 +74,11 @@ class BakeError(RuntimeError):
         self.code = result.code
 
 
-def sequence_paths(output: str, first: int, last: int) -> list:
-    """The files a sequence bake writes, as the CLI names them: a run of '#' is
-    the zero-padded frame number, else _0001 goes before the extension."""
-    m = re.search(r"#+", output)
-    out = []
-    for f in range(first, last + 1):
-        if m:
-            out.append(output[:m.start()] + str(f).zfill(len(m.group())) + output[m.end():])
-        else:
-            stem, ext = os.path.splitext(output)
-            out.append(f"{stem}_{f:04d}{ext or '.vdb'}")
-    return out
-
-
 def bake_command(executable, params_file, resolution, output, frames=None, fps=24.0, extra=(),
                  sequence_file=None):
     """The CLI's argument list. resolution None: none given (the --quality tier's);
     sequence_file: per-frame parameters (--sequence) instead of --params/--frames."""
-    cmd = [str(executable), "bake"]
+    cmd = [str(executable), "bake", "--json"]
     if sequence_file is not None:
         cmd += ["--sequence", str(sequence_file)]
     else:
@@ -101,15 +93,16 @@ def bake_command(executable, params_file, resolution, output, frames=None, fps=2
 
 
 class BakeJob:
-    """One `cloudgen bake` run. Thread-safe reads of progress/lines; poll() never blocks."""
+    """One `cloudgen bake --json` run. Thread-safe reads of progress and events; poll() never blocks."""
 
     def __init__(self, executable, params: dict, resolution, output: str,
                  frames=None, fps: float = 24.0, extra=(), verify: bool = True, on_progress=None,
                  sequence=None, camera=None):
-        """resolution: int, or None to leave it to `--quality` in extra; sequence: the
-        --sequence object ({"fps", "frames": [{"frame", "params"}]}; frames = (first, last)
-        names the files); camera: the CAMERA.json object (--camera). Both are written to
-        temporary files that are removed when the bake ends."""
+        """resolution: int, or None to leave it to `--quality` in extra; frames: (first, last)
+        bakes a frame range of params (--frames); sequence: the --sequence object ({"fps",
+        "frames": [{"frame", "params"}]}) instead of params; camera: the CAMERA.json object
+        (--camera). The parameter, sequence and camera files are temporary, removed when
+        the bake ends."""
         if not executable:
             raise BakeError(BakeResult(BAD_ARGUMENT, "the cloudgen command-line tool was not found "
                                                      "(not in the add-on's bin/ nor on PATH)"))
@@ -122,52 +115,47 @@ class BakeJob:
         self.extra = tuple(extra)
         self.verify = verify
         self.on_progress = on_progress
-        self.progress = 0.0
+        self.events = cli_events.BakeEvents()
         self.stdout_lines: list = []
         self.stderr_lines: list = []
-        self.written: list = []
-        self.copied: list = []
-        self.kept: list = []
+        self.protocol_error = None   # the first line that broke the protocol
         self.sequence = sequence
         self.camera = camera
         self._proc = None
-        self._params_file = None
-        self._temp_files: list = []
+        self._temp_files: dict = {}
         self._threads: list = []
         self._cancel_requested = False
         self._result = None
         self._lock = threading.Lock()
 
+    @property
+    def progress(self) -> float:
+        """0..100 over the whole run."""
+        return 100.0 if self._result is not None and self._result.ok else 100.0 * self.events.fraction
+
     # -- running ---------------------------------------------------------
     def command(self):
         extra = list(self.extra)
         if self.camera is not None:
-            extra += ["--camera", self._temp("camera") or "CAMERA.json"]
+            extra += ["--camera", self._temp_files.get("camera", "CAMERA.json")]
         sequence_file = None
         if self.sequence is not None:
-            sequence_file = self._temp("sequence") or "SEQUENCE.json"
-        return bake_command(self.executable, self._params_file or "PARAMS.json", self.resolution,
+            sequence_file = self._temp_files.get("sequence", "SEQUENCE.json")
+        return bake_command(self.executable, self._temp_files.get("params", "PARAMS.json"), self.resolution,
                             self.output, self.frames, self.fps, extra, sequence_file)
-
-    def _temp(self, kind):
-        for k, path in self._temp_files:
-            if k == kind:
-                return path
-        return None
 
     def _write_temp(self, kind, data):
         fd, path = tempfile.mkstemp(prefix=f"cloudgen-{kind}-", suffix=".json")
-        self._temp_files.append((kind, path))
+        self._temp_files[kind] = path
         with os.fdopen(fd, "w") as f:
             json.dump(data, f)
         return path
 
     def start(self):
-        fd, self._params_file = tempfile.mkstemp(prefix="cloudgen-params-", suffix=".json")
-        with os.fdopen(fd, "w") as f:
-            json.dump(self.params, f)
         if self.sequence is not None:
             self._write_temp("sequence", self.sequence)
+        else:
+            self._write_temp("params", self.params)
         if self.camera is not None:
             self._write_temp("camera", self.camera)
         try:
@@ -189,30 +177,22 @@ class BakeJob:
         stream.close()
 
     def _on_stdout(self, line):
-        progress = _PROGRESS.match(line)
-        wrote = _WROTE.match(line)
-        copied = _COPIED.match(line)
-        kept = _KEPT.match(line)
         with self._lock:
             self.stdout_lines.append(line)
-            if progress:
-                self.progress = float(progress.group(1))
-            if wrote:
-                self.written.append(wrote.group(1))
-            if copied:
-                self.copied.append((copied.group(1), int(copied.group(2))))
-            if kept:
-                self.kept.append(kept.group(1))
-        if progress and self.on_progress is not None:
-            self.on_progress(self.progress)
+            before = self.events.fraction
+            try:
+                event = self.events.feed(line)
+            except cli_events.ProtocolError as exc:
+                event = None
+                if self.protocol_error is None:
+                    self.protocol_error = str(exc)
+            moved = self.events.fraction != before
+        if event is not None and moved and self.on_progress is not None:
+            self.on_progress(100.0 * self.events.fraction)
 
     def _on_stderr(self, line):
         with self._lock:
             self.stderr_lines.append(line)
-
-    @property
-    def running(self) -> bool:
-        return self._proc is not None and self._result is None and self._proc.poll() is None
 
     def cancel(self):
         """Ask the CLI to stop (SIGTERM: it removes its temporary file, exits 130)."""
@@ -245,45 +225,57 @@ class BakeJob:
         self._cleanup()
         if code < 0:  # killed by a signal other than the ones it handles
             code = CANCELLED if self._cancel_requested else IO_ERROR
-        result = BakeResult(code, self._message(code), list(self.written), list(self.copied),
-                            list(self.kept))
+        ev = self.events
+        plan = (ev.plan or {}).get("files", [])
+        result = BakeResult(code, "", [e["path"] for e in ev.written],
+                            [(e["path"], e.get("source_frame")) for e in ev.copied],
+                            [e["path"] for e in ev.kept], [f["path"] for f in plan],
+                            [f.get("frame") for f in plan])
+        if code == OK and (self.protocol_error or ev.plan is None):
+            result.code = IO_ERROR
+            result.message = ("I/O error: the cloudgen command-line tool broke its output protocol "
+                              f"(docs/cli_protocol.md): {self.protocol_error or 'no plan event'}")
+        else:
+            result.message = self._message(code, result)
         if result.ok:
             result = self._verified(result)
-        if result.ok:
-            self.progress = 100.0
         self._result = result
+        if result.ok and self.on_progress is not None and ev.fraction < 1.0:
+            self.on_progress(100.0)
         return result
 
-    def _message(self, code):
+    def _message(self, code, result):
         if code == OK:
-            if self.copied or self.kept:
-                return (f"{len(self.written)} baked, {len(self.copied)} copied, {len(self.kept)} kept"
-                        f" ({len(self.written) + len(self.copied) + len(self.kept)} files)")
-            return f"baked {len(self.written)} file(s): " + ", ".join(self.written)
-        errors = [ln for ln in self.stderr_lines if ln.strip()]
-        text = errors[-1] if errors else f"cloudgen bake exited with code {code}"
-        text = re.sub(r"^cloudgen: (error: )?", "", text)
+            if result.copied or result.kept:
+                return (f"{result.counts()} ({len(result.paths) + len(result.copied) + len(result.kept)} files)")
+            return f"baked {len(result.paths)} file(s): " + ", ".join(result.paths)
         if code == CANCELLED:
             return "bake cancelled; no partial file left" + (
-                f" ({len(self.written)} finished frame(s) kept)" if self.written else "")
+                f" ({len(result.paths)} finished frame(s) kept)" if result.paths else "")
+        error = self.events.error
+        if error is not None and str(error.get("message", "")).strip():
+            text = str(error["message"]).strip()
+        else:  # no error event (a crash, a protocol problem): the stderr line
+            errors = [ln for ln in self.stderr_lines if ln.strip()]
+            text = errors[-1] if errors else f"cloudgen bake exited with code {code}"
+            text = re.sub(r"^cloudgen: (error: )?", "", text)
         return f"{_KIND.get(code, 'error')}: {text}"
 
     def _verified(self, result):
-        expected = (sequence_paths(self.output, *self.frames) if self.frames is not None
-                    else [self.output])
+        expected = result.files
         missing = [p for p in expected if not os.path.isfile(p)]
         if missing:
-            return BakeResult(IO_ERROR, f"I/O error: cloudgen reported success but {missing[0]} "
-                                        "does not exist", list(result.paths), list(result.copied),
-                              list(result.kept))
+            result.code = IO_ERROR
+            result.message = f"I/O error: cloudgen reported success but {missing[0]} does not exist"
+            return result
         if not self.verify:
             return result
         kept = {os.path.normpath(k) for k in result.kept}  # untouched: read back when written
-        copies = {os.path.normpath(c): f for c, f in result.copied}
+        sources = {os.path.normpath(e["path"]): e.get("source") for e in self.events.copied}
         for path in expected:
             if os.path.normpath(path) in kept:
                 continue
-            if os.path.normpath(path) in copies and self._same_size_as_source(path, copies):
+            if _same_size(path, sources.get(os.path.normpath(path))):
                 continue  # a whole copy of a file that is read back itself
             check = subprocess.run([self.executable, "info", path], stdin=subprocess.DEVNULL,
                                    capture_output=True, text=True, errors="replace")
@@ -296,30 +288,27 @@ class BakeJob:
                 why = (check.stderr.strip().splitlines() or ["unreadable"])[-1]
                 why = re.sub(r"^cloudgen: (error: )?", "", why)
                 return BakeResult(IO_ERROR, f"I/O error: {path} was written but does not read back "
-                                            f"(disk full?): {why}; removed", [])
+                                            f"(disk full?): {why}; removed", [], [], [], list(result.files),
+                                  list(result.frames))
         return result
 
-    def _same_size_as_source(self, path, copies):
-        frame = copies[os.path.normpath(path)]
-        source = sequence_paths(self.output, frame, frame)[0]
-        try:
-            return os.path.getsize(path) == os.path.getsize(source) > 0
-        except OSError:
-            return False
-
     def _cleanup(self):
-        while self._temp_files:
-            _, path = self._temp_files.pop()
+        for path in self._temp_files.values():
             try:
                 os.remove(path)
             except OSError:
                 pass
-        if self._params_file:
-            try:
-                os.remove(self._params_file)
-            except OSError:
-                pass
-            self._params_file = None
+        self._temp_files.clear()
+
+
+def _same_size(path, source) -> bool:
+    """path is a copy (`copied` event) of source and has its size."""
+    if not source:
+        return False
+    try:
+        return os.path.getsize(path) == os.path.getsize(source) > 0
+    except OSError:
+        return False
 
 
 def run_bake(executable, params: dict, resolution: int, output: str, frames=None, fps=24.0,

@@ -16,6 +16,8 @@ import json
 import os
 import pathlib
 
+from . import cli_events
+
 PACKAGE_DIR = pathlib.Path(__file__).resolve().parent
 LIB_DIR = PACKAGE_DIR / "lib"
 SHADER_DIR = PACKAGE_DIR / "shaders"
@@ -130,9 +132,9 @@ def cloudgen_executable() -> str | None:
     return shutil.which("cloudgen")
 
 
-# ---------------------------------------------------------------- issue 6 additions
-# Newer parts of the core; each degrades to a one-line reason when the loaded
-# module or CLI predates them (the add-on still registers and bakes).
+# ---------------------------------------------------------------- tiers, field key, the CLI
+# tiers() and field_key() degrade to a one-line reason / None when the loaded
+# module predates them (the add-on still registers and bakes).
 def tiers() -> dict:
     """{name: {"label", "description", "render", "bake", "preview", "measured"}} in the
     core's order (Draft, Preview, Final); RuntimeError naming what is missing."""
@@ -150,27 +152,25 @@ def field_key(values: dict):
     return str(mod.field_key(values))
 
 
-_features = {}
+_cli_checked = {}  # (executable, its modification time) -> None (it matches) or the problem
 
 
-def cli_features(executable) -> frozenset:
-    """Options of `cloudgen bake` this CLI knows, among --quality, --camera, --sequence,
-    --update (read from `cloudgen bake --help`, cached per file and modification time)."""
-    import subprocess  # noqa: PLC0415
-
-    if not executable:
-        return frozenset()
+def cli_problem(executable):
+    """None when this cloudgen CLI speaks the add-on's protocol (cli_events.PROTOCOL) and is
+    the same release as the loaded cloudgen_native, else one line saying what differs.
+    Asked once per session (`cloudgen --version --json`), again only when the file changes."""
     try:
         key = (str(executable), os.stat(executable).st_mtime_ns)
-    except OSError:
-        return frozenset()
-    if key not in _features:
+    except OSError as exc:
+        return f"cannot run the cloudgen command-line tool {executable}: {exc.strerror}"
+    if key not in _cli_checked:
         try:
-            out = subprocess.run([str(executable), "bake", "--help"], capture_output=True, text=True,
-                                 stdin=subprocess.DEVNULL, timeout=30, errors="replace")
-            text = out.stdout + out.stderr
-        except (OSError, subprocess.SubprocessError):
-            text = ""
-        _features[key] = frozenset(o for o in ("--quality", "--camera", "--sequence", "--update")
-                                   if o in text)
-    return _features[key]
+            mod = require()
+            if not hasattr(mod, "version"):
+                raise RuntimeError("this cloudgen_native has no version(): reinstall the add-on")
+            info = cli_events.cli_version(executable)
+            cli_events.check_protocol(info, dict(mod.version()))
+            _cli_checked[key] = None
+        except (cli_events.ProtocolError, RuntimeError) as exc:
+            _cli_checked[key] = str(exc)
+    return _cli_checked[key]

@@ -1,4 +1,4 @@
-"""The sidebar tab every cloudgen panel lives in (ui.py, quality.py, bake.py).
+"""The sidebar tab every cloudgen panel lives in (ui.py, quality.py, bake_panel.py).
 No imports of the add-on's own modules: any of them can use it."""
 
 

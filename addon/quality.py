@@ -183,12 +183,11 @@ def drift(scene) -> list:
 
 
 # ---------------------------------------------------------------- bake arguments
-def bake_arguments(tier_name, tier_bake, overrides: dict, features) -> tuple:
+def bake_arguments(tier_name, tier_bake, overrides: dict) -> tuple:
     """(resolution or None, extra CLI arguments) for `cloudgen bake`.
 
     tier_name/tier_bake: the tier (None for Custom); overrides: the bake settings the
-    user set explicitly, among resolution, lod, tolerance, half; features: the CLI's
-    options (bridge.cli_features). With a tier and a CLI that knows --quality:
+    user set explicitly, among resolution, lod, tolerance, half. With a tier:
     `--quality NAME` plus only the overrides; else every value explicitly (the tier's,
     overridden) — also when an override cannot be said with flags (LOD on or full
     floats against a tier that turns them off)."""
@@ -197,7 +196,7 @@ def bake_arguments(tier_name, tier_bake, overrides: dict, features) -> tuple:
         base.update({k: tier_bake[k] for k in DEFAULT_BAKE if k in tier_bake})
     eff = dict(base, **overrides)
     expressible = not (eff["lod"] and not base["lod"]) and not (not eff["half"] and base["half"])
-    if tier_name and "--quality" in features and expressible:
+    if tier_name and expressible:
         extra = ["--quality", tier_name]
         if "tolerance" in overrides:
             extra += ["--tolerance", repr(float(overrides["tolerance"]))]

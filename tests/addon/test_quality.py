@@ -47,12 +47,11 @@ def test_apply_sets_the_real_settings(addon, scene, tiers, name):
     assert scene.cycles.volume_step_rate == pytest.approx(tier["render"]["step_rate"], rel=1e-6)
     assert scene.cloudgen.preview_width == min(512, max(16, tier["preview"]["size"]))
     assert addon.quality.drift(scene) == []
-    # the bake: --quality NAME and nothing else without overrides; with an old CLI the
-    # tier's values explicitly
-    res, extra = addon.quality.bake_arguments(*addon.quality.current(scene)[:1],
-                                               tier["bake"], {}, {"--quality"})
+    # the bake: --quality NAME and nothing else without overrides; the tier's values
+    # explicitly when it cannot go by name
+    res, extra = addon.quality.bake_arguments(*addon.quality.current(scene)[:1], tier["bake"], {})
     assert (res, extra) == (None, ["--quality", name])
-    res, extra = addon.quality.bake_arguments(name, tier["bake"], {}, set())
+    res, extra = addon.quality.bake_arguments(None, tier["bake"], {})
     b = tier["bake"]
     assert res == b["resolution"]
     assert ("--half" in extra) == b["half"] and ("--no-lod" in extra) == (not b["lod"])
@@ -101,15 +100,14 @@ def test_tooltips_show_measured_numbers(addon, scene, monkeypatch):
 def test_overrides_and_unexpressible_overrides(addon):
     q = addon.quality
     bake = {"resolution": 64, "lod": True, "tolerance": 0.01, "half": True}
-    feats = {"--quality"}
-    assert q.bake_arguments("draft", bake, {"resolution": 24}, feats) == (24, ["--quality", "draft"])
-    assert q.bake_arguments("draft", bake, {"lod": False, "tolerance": 0.5}, feats) == \
+    assert q.bake_arguments("draft", bake, {"resolution": 24}) == (24, ["--quality", "draft"])
+    assert q.bake_arguments("draft", bake, {"lod": False, "tolerance": 0.5}) == \
         (None, ["--quality", "draft", "--tolerance", "0.5", "--no-lod"])
     # full floats against a half-float tier: no flag says that, so everything explicitly
-    assert q.bake_arguments("draft", bake, {"half": False}, feats) == (64, ["--tolerance", "0.01"])
+    assert q.bake_arguments("draft", bake, {"half": False}) == (64, ["--tolerance", "0.01"])
     # Custom: the operator's own defaults, as before tiers existed
-    assert q.bake_arguments(None, None, {}, feats) == (96, [])
-    assert q.bake_arguments(None, None, {"lod": False, "resolution": 8}, feats) == (8, ["--no-lod"])
+    assert q.bake_arguments(None, None, {}) == (96, [])
+    assert q.bake_arguments(None, None, {"lod": False, "resolution": 8}) == (8, ["--no-lod"])
 
 
 def test_without_tiers_only_custom(addon, scene, monkeypatch):
@@ -132,11 +130,11 @@ def test_bake_panel_shows_fit_to_camera_and_the_tier(addon, scene, tiers):
     import bpy
 
     bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
-    log = draw(addon.bake.CLOUDGEN_PT_bake, bpy.context)
+    log = draw(addon.bake_panel.CLOUDGEN_PT_bake, bpy.context)
     assert ("prop", "bake_fit_camera") in log
     assert ("label", "Custom: 96³") in log
     name, tier = next(iter(tiers.items()))
     bpy.ops.cloudgen.apply_quality(tier=name)
-    log = draw(addon.bake.CLOUDGEN_PT_bake, bpy.context)
+    log = draw(addon.bake_panel.CLOUDGEN_PT_bake, bpy.context)
     summary = [t for k, t in log if k == "label" and t.startswith(tier["label"] + ": ")]
     assert summary and summary[0].startswith(f"{tier['label']}: {tier['bake']['resolution']}³")

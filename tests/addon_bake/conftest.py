@@ -1,8 +1,9 @@
 """Bake tests. test_bake_process.py needs only the CLI; the others run inside the
 bpy wheel (Blender 4.5 in .venv) against the packaged add-on build/addon/cloudgen
 (repackaged when addon/ or osl/ is newer), and are skipped without bpy unless
-CLOUDGEN_REQUIRE_BPY=1. Every class registered here is unregistered in teardown
-(the 4.5 wheel hangs at exit while an operator class is registered)."""
+CLOUDGEN_REQUIRE_BPY=1. The add-on is disabled in teardown, which unregisters
+every class it registered (the 4.5 wheel hangs at exit while an operator class
+is registered)."""
 import pathlib
 
 import addon_package
@@ -20,21 +21,11 @@ def _raise(exc):
 
 @pytest.fixture(scope="module")
 def bake_addon():
-    """The enabled add-on with the bake module's classes registered (by the add-on
-    itself once its __init__ lists bake, else here); all unregistered afterwards."""
+    """The enabled add-on (its bake operators and panel included); disabled afterwards."""
     import addon_utils
-    import bpy
 
     addon_package.ensure()
     mod = addon_utils.enable("cloudgen", default_set=False, handle_error=_raise)
     assert mod is not None, "addon_utils.enable('cloudgen') failed"
-    from cloudgen import bake
-
-    ours = [cls for cls in bake.classes if not getattr(cls, "is_registered", False)]
-    for cls in ours:
-        bpy.utils.register_class(cls)
     yield mod
-    for cls in reversed(ours):
-        if getattr(cls, "is_registered", False):
-            bpy.utils.unregister_class(cls)
     addon_utils.disable("cloudgen", default_set=False, handle_error=_raise)

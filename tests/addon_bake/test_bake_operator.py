@@ -84,25 +84,40 @@ def test_bake_creates_volume_lined_up_with_the_box(bake_addon, tmp_path):
     assert tuple(w_cloud) == pytest.approx(tuple(w_vdb), abs=1e-5)
 
     assert cloud["cloudgen_source"] == "BAKED" and cloud.hide_render and not vdb.hide_render
+    # the record on the cloud: the file, the field key of the parameters it was baked from
+    from cloudgen import bridge, cloud_object, volume_object
+    record = volume_object.bake_record(cloud)
+    want_key = bridge.field_key(cloud_object.params_from_object(cloud))
+    assert record["files"] == ["//cloudgen/" + path.name] and record["frames"] == [], record
+    assert record["field_keys"] == [want_key] and len(want_key) == 16, record
+    assert (record["baked"], record["copied"], record["kept"]) == (1, 0, 0), record
+    # the baked material is like the cloud's own volume node, the grid read once
     mat = vdb.active_material
-    assert mat.node_tree.nodes["Density Grid"].attribute_name == "density"
-    assert mat.node_tree.nodes["Cloud Volume"].inputs["Density"].is_linked
+    own = cloud.active_material.node_tree.nodes["Cloud Volume"]
+    vol = mat.node_tree.nodes["Cloud Volume"]
+    assert vol.bl_idname == own.bl_idname, (vol.bl_idname, own.bl_idname)
+    if "Density Attribute" in vol.inputs:
+        assert vol.inputs["Density Attribute"].default_value == "density"
+        assert not vol.inputs["Density"].is_linked and vol.inputs["Density"].default_value == 1.0
+    else:
+        assert mat.node_tree.nodes["Density Grid"].attribute_name == "density"
+        assert vol.inputs["Density"].links[0].from_node.name == "Density Grid"
+    assert mat.cycles.volume_step_rate == 1.0
 
     assert bpy.ops.cloudgen.cloud_source(source="PROCEDURAL") == {"FINISHED"}
     assert cloud["cloudgen_source"] == "PROCEDURAL" and not cloud.hide_render and vdb.hide_render
     # Without the cloud's own volume node the baked material is a Principled Volume:
     # the grid must reach it once, through its Density Attribute (a link into
     # Density as well multiplies the two: density squared, a darker cloud).
-    from cloudgen import bake as bake_module
     cloud_mat = cloud.active_material
     cloud.data.materials.clear()
-    principled = bake_module._baked_material(cloud)
+    principled = volume_object.baked_material(cloud)
     vol = principled.node_tree.nodes["Cloud Volume"]
     assert vol.bl_idname == "ShaderNodeVolumePrincipled", vol.bl_idname
     assert not vol.inputs["Density"].is_linked and vol.inputs["Density"].default_value == 1.0
     assert vol.inputs["Density Attribute"].default_value == "density"
     cloud.data.materials.append(cloud_mat)
-    bake_module._baked_material(cloud)  # restore the cloud's own look on <cloud>_VDB
+    volume_object.baked_material(cloud)  # restore the cloud's own look on <cloud>_VDB
     # re-bake updates the same object
     assert bpy.ops.cloudgen.bake_vdb(resolution=16) == {"FINISHED"}
     assert [o.name for o in bpy.data.objects if o.type == "VOLUME"] == [vdb.name]
@@ -130,6 +145,28 @@ def test_frame_range_bakes_a_sequence(bake_addon, tmp_path):
     sc.frame_set(5)  # past the range: clipped, no file
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     assert evaluated.grids.frame_filepath == ""
+
+
+def test_output_with_two_runs_of_hash(bake_addon, tmp_path, capfd):
+    """The LAST run of '#' is the frame number (the CLI names the files; the add-on once
+    took the first run, looked for a_01/f_####.vdb and failed the bake)."""
+    import bpy
+    from cloudgen import volume_object
+
+    sc = saved_scene(tmp_path)
+    sc.frame_start, sc.frame_end = 1, 2
+    cloud = add_cloud()
+    capfd.readouterr()
+    result = bpy.ops.cloudgen.bake_vdb(resolution=8, sequence=True, filepath="//a_##/f_####.vdb")
+    out = capfd.readouterr().out
+    assert result == {"FINISHED"}, out[-2000:]
+    assert sorted(os.listdir(tmp_path / "a_##")) == ["f_0001.vdb", "f_0002.vdb"], os.listdir(tmp_path)
+    vdb = volume_object.baked_object(cloud)
+    assert vdb.data.filepath == "//a_##/f_0001.vdb"
+    record = volume_object.bake_record(cloud)
+    assert record["files"] == ["//a_##/f_0001.vdb", "//a_##/f_0002.vdb"], record
+    assert record["frames"] == [1, 2] and len(record["field_keys"]) == 2, record
+    assert "Bake to VDB: 2 frames:" in out, out[-2000:]
 
 
 def test_unwritable_path_reports_and_leaves_nothing(bake_addon, tmp_path):

@@ -4,8 +4,9 @@ a real (tiny) VDB per output, so the add-on side is checked independently of
 the core: the scene's tier goes as --quality with only explicit overrides,
 Fit to Camera passes camera_fit.camera_json (temporary file removed), a frame
 range passes per-frame parameters (keyframes evaluated, frame restored) with
---update, the info line counts baked/copied/kept, and a CLI without these
-options gets explicit values and --frames instead."""
+--update, the info line counts baked/copied/kept (read from the operator's
+report output and the record on the cloud), and a CLI of another release or
+without the JSON protocol is refused with a clear error before it bakes."""
 import json
 import os
 import pathlib
@@ -23,13 +24,19 @@ pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen no
 
 FAKE = '''#!{python}
 import json, shutil, sys
-FEATURES = {features!r}
+sys.path.insert(0, {pylib!r})
+import cloudgen_native
+VERSION, PROTOCOL = {version!r}, {protocol!r}
 LOG, TEMPLATE = {log!r}, {template!r}
 a = sys.argv[1:]
+def emit(**event):
+    print(json.dumps(event), flush=True)
 if a[:1] == ["info"]:
     print("grid: density"); sys.exit(0)
-if a[:2] == ["bake", "--help"]:
-    print("usage: cloudgen bake " + " ".join(FEATURES)); sys.exit(0)
+if a == ["--version", "--json"]:
+    if PROTOCOL is None:
+        print("cloudgen " + VERSION); sys.exit(0)   # a CLI from before the protocol
+    emit(version=VERSION, protocol=PROTOCOL); sys.exit(0)
 def opt(name):
     return a[a.index(name) + 1] if name in a else None
 rec = {{"argv": a}}
@@ -39,61 +46,57 @@ for name in ("--camera", "--sequence", "--params"):
         rec[name + " path"] = opt(name)
 with open(LOG, "a") as f:
     f.write(json.dumps(rec) + "\\n")
+if "--json" not in a:
+    print("wrote (human output)"); sys.exit(0)
 out = opt("--output")
-def path_of(frame):
-    stem, ext = out[:-4], ".vdb"
-    return "%s_%04d%s" % (stem, frame, ext)
 if "--sequence" in rec:
-    seen = {{}}
-    for e in rec["--sequence"]["frames"]:
-        key = json.dumps(e["params"], sort_keys=True)
-        p = path_of(e["frame"])
-        shutil.copyfile(TEMPLATE, p)
-        if key in seen:
-            print("copied %s (same field as frame %d)" % (p, seen[key]))
-        else:
-            seen[key] = e["frame"]
-            print("wrote %s (fake)" % p)
-elif opt("--frames"):
-    x, y = map(int, opt("--frames").split("-"))
-    for fr in range(x, y + 1):
-        shutil.copyfile(TEMPLATE, path_of(fr)); print("wrote %s (fake)" % path_of(fr))
+    frames = [(e["frame"], json.dumps(e["params"], sort_keys=True)) for e in rec["--sequence"]["frames"]]
 else:
-    shutil.copyfile(TEMPLATE, out); print("wrote %s (fake)" % out)
+    frames = [(None, "")]
+files = [{{"frame": fr, "path": cloudgen_native.frame_path(out, fr) if fr is not None else out}}
+         for fr, _ in frames]
+emit(event="plan", protocol=1, files=files, grid=[8, 8, 6], voxel=0.5, memory_gib=0.0, threads=1,
+     preset=None)
+seen = {{}}
+for (fr, key), f in zip(frames, files):
+    shutil.copyfile(TEMPLATE, f["path"])
+    if key in seen:
+        emit(event="copied", path=f["path"], frame=fr, source=seen[key][1], source_frame=seen[key][0])
+    else:
+        seen[key] = (fr, f["path"])
+        emit(event="wrote", path=f["path"], frame=fr, active_voxels=1, grid=[8, 8, 6], voxel=0.5,
+             bytes=1, seconds=0.0, tiles_total=1, tiles_culled=0)
+emit(event="progress", fraction=1.0)
 '''
 
 
-def _fake(tmp_path, features, name):
+def _fake(tmp_path, name, version=None, protocol=1):
+    """A stand-in `cloudgen` that speaks the protocol (or, protocol None, predates it):
+    by default of the loaded module's release."""
+    from cloudgen import bridge
+
     template = tmp_path / "template.vdb"
     if not template.exists():
         subprocess.run([str(CLI), "bake", "--preset", "cumulus", "--resolution", "8", "--quiet",
                         "--output", str(template)], check=True)
     exe = tmp_path / name
     log = tmp_path / f"{name}.log"
-    exe.write_text(FAKE.format(python=sys.executable, features=list(features), log=str(log),
-                               template=str(template)))
+    exe.write_text(FAKE.format(python=sys.executable, pylib=str(ROOT / "build" / "python"),
+                               version=version or bridge.native().version()["version"], protocol=protocol,
+                               log=str(log), template=str(template)))
     exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
     return exe, log
 
 
 def _records(log):
-    return [json.loads(line) for line in log.read_text().splitlines()]
+    return [json.loads(line) for line in log.read_text().splitlines()] if log.exists() else []
 
 
 @pytest.fixture
 def new_cli(tmp_path, monkeypatch):
     from cloudgen import bridge
 
-    exe, log = _fake(tmp_path, ["--quality", "--camera", "--sequence", "--update"], "cloudgen_new")
-    monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(exe))
-    return log
-
-
-@pytest.fixture
-def old_cli(tmp_path, monkeypatch):
-    from cloudgen import bridge
-
-    exe, log = _fake(tmp_path, [], "cloudgen_old")
+    exe, log = _fake(tmp_path, "cloudgen_fake")
     monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(exe))
     return log
 
@@ -177,9 +180,9 @@ def test_fit_to_camera_passes_the_camera_json(bake_addon, tmp_path, new_cli):
     assert len(_records(new_cli)) == 2  # refused before running the CLI
 
 
-def test_frame_range_passes_per_frame_params(bake_addon, tmp_path, new_cli):
+def test_frame_range_passes_per_frame_params(bake_addon, tmp_path, new_cli, capfd):
     import bpy
-    from cloudgen import bake
+    from cloudgen import volume_object
 
     sc, cloud = _saved_cloud(tmp_path)
     sc.frame_start, sc.frame_end = 1, 5
@@ -199,29 +202,31 @@ def test_frame_range_passes_per_frame_params(bake_addon, tmp_path, new_cli):
     assert [f["params"]["density"] for f in seq["frames"]] == pytest.approx([0.5, 0.5, 0.9, 0.9, 0.9],
                                                                             abs=1e-6)
     assert {tuple(f["params"]["box_size"]) for f in seq["frames"]} == {tuple(cloud.dimensions)}
-    assert bake.last_result.counts() == "2 baked, 3 copied, 0 kept"
-    assert "5 frames: 2 baked, 3 copied, 0 kept" in bake.last_report
+    record = volume_object.bake_record(cloud)
+    assert (record["baked"], record["copied"], record["kept"]) == (2, 3, 0), record
+    assert record["baked_frames"] == [1, 3] and record["copied_frames"] == [[2, 1], [4, 3], [5, 3]], record
+    keys = record["field_keys"]
+    assert len(keys) == 5 and keys[0] == keys[1] != keys[2] == keys[3] == keys[4], keys
+    out = capfd.readouterr().out
+    assert "Bake to VDB: 5 frames: 2 baked, 3 copied, 0 kept" in out, out[-2000:]
     assert sorted(os.listdir(tmp_path / "seq")) == [f"c_{f:04d}.vdb" for f in range(1, 6)]
     vol = bpy.data.objects[cloud.name + "_VDB"].data
     assert vol.is_sequence and vol.frame_start == 1 and vol.frame_duration == 5
 
 
-def test_older_cli_gets_explicit_values(bake_addon, tmp_path, old_cli):
+@pytest.mark.parametrize("version, protocol, words", [
+    ("0.0.1", 1, "different releases"),
+    (None, 2, "protocol 2"),
+    (None, None, "does not speak the JSON protocol"),
+])
+def test_cli_of_another_release_is_refused(bake_addon, tmp_path, monkeypatch, version, protocol, words):
     import bpy
-
-    sc, _ = _saved_cloud(tmp_path)
-    sc.frame_start, sc.frame_end = 2, 3
-    assert bpy.ops.cloudgen.apply_quality(tier="draft") == {"FINISHED"}
-    assert bpy.ops.cloudgen.bake_vdb(sequence=True) == {"FINISHED"}
-    (rec,) = _records(old_cli)
-    argv = rec["argv"]
     from cloudgen import bridge
 
-    b = bridge.tiers()["draft"]["bake"]
-    assert _value(argv, "--resolution") == str(b["resolution"]) and "--quality" not in argv
-    assert ("--half" in argv) == b["half"] and ("--no-lod" in argv) == (not b["lod"])
-    assert _value(argv, "--frames") == "2-3" and "--sequence" not in argv and "--update" not in argv
-    sc.cloudgen.bake_fit_camera = True
-    with pytest.raises(RuntimeError, match="needs a cloudgen command-line tool with --camera"):
-        bpy.ops.cloudgen.bake_vdb()
-    assert len(_records(old_cli)) == 1
+    exe, log = _fake(tmp_path, f"cloudgen_{protocol}", version=version, protocol=protocol)
+    monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(exe))
+    _saved_cloud(tmp_path)
+    with pytest.raises(RuntimeError, match=words):
+        bpy.ops.cloudgen.bake_vdb(resolution=8)
+    assert _records(log) == [], "the CLI was asked to bake"
+    assert bridge.cli_problem(str(exe)) is not None and words in bridge.cli_problem(str(exe))

@@ -18,15 +18,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 CLI = ROOT / "build" / "bin" / "cloudgen"
 
 
-def _cli_has(*options):
-    if not CLI.is_file():
-        return False
-    out = subprocess.run([str(CLI), "bake", "--help"], capture_output=True, text=True).stdout
-    return all(o in out for o in options)
-
-
-pytestmark = pytest.mark.skipif(not _cli_has("--quality", "--camera"),
-                                reason="build/bin/cloudgen has no --quality/--camera yet")
+pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built")
 
 
 @pytest.fixture(autouse=True)

@@ -21,14 +21,10 @@ out_dir, types, farm = argv[0], argv[1].split(","), "--farm" in argv
 
 mod = addon_utils.enable("cloudgen", default_set=True, handle_error=lambda exc: (_ for _ in ()).throw(exc))
 assert mod is not None, "cannot enable the cloudgen add-on"
-from cloudgen import bake, cloud_object  # noqa: E402
+from cloudgen import cloud_object, volume_object  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 from scene_helpers import frame_cloud  # noqa: E402
-
-own = [c for c in bake.classes if not getattr(c, "is_registered", False)]
-for c in own:
-    bpy.utils.register_class(c)
 
 
 def scene_for(name):
@@ -52,7 +48,7 @@ for i, kind in enumerate(types):
     frame_cloud(sc, cloud, fill=0.8)
     sequence = farm and i == len(types) - 1
     assert bpy.ops.cloudgen.bake_vdb(resolution=24, sequence=sequence) == {"FINISHED"}
-    vdb = bake.baked_object(cloud)
+    vdb = volume_object.baked_object(cloud)
     assert vdb is not None and cloud["cloudgen_source"] == "BAKED" and cloud.hide_render
     sc.render.image_settings.file_format = "PNG"
     sc.render.filepath = f"{out_dir}/{kind}.png"
@@ -67,6 +63,4 @@ for i, kind in enumerate(types):
     if sequence:
         bpy.ops.wm.save_mainfile()
 
-for c in reversed(own):
-    bpy.utils.unregister_class(c)
 addon_utils.disable("cloudgen", default_set=True)

@@ -1,0 +1,43 @@
+"""The Bake panel (sidebar tab Cloud): Bake Frame / Bake Frame Range, Fit to Camera,
+the tier's bake settings, the procedural/baked switch and the baked file."""
+import bpy
+
+from . import bake, cloud_object, quality, volume_object
+from .panel import SidebarPanel
+
+
+class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
+    bl_label = "Bake"
+    bl_idname = "CLOUDGEN_PT_bake"
+    bl_parent_id = "CLOUDGEN_PT_main"
+
+    @classmethod
+    def poll(cls, context):
+        return cloud_object.is_cloud(context.view_layer.objects.active)
+
+    def draw(self, context):
+        layout = self.layout
+        cloud = context.view_layer.objects.active
+        col = layout.column(align=True)
+        op = col.operator(bake.CLOUDGEN_OT_bake_vdb.bl_idname, text="Bake Frame", icon="FILE_VOLUME")
+        op.sequence = False
+        op = col.operator(bake.CLOUDGEN_OT_bake_vdb.bl_idname, text="Bake Frame Range", icon="SEQUENCE")
+        op.sequence = True
+        row = layout.row()
+        row.prop(context.scene.cloudgen, "bake_fit_camera")
+        layout.label(text=quality.bake_summary(context.scene), icon="SETTINGS")
+        source = cloud.get(volume_object.SOURCE_KEY, "PROCEDURAL")
+        baked = volume_object.baked_object(cloud)
+        row = layout.row(align=True)
+        for key, label in (("PROCEDURAL", "Procedural"), ("BAKED", "Baked")):
+            sub = row.row(align=True)
+            sub.enabled = key == "PROCEDURAL" or baked is not None
+            op = sub.operator(bake.CLOUDGEN_OT_cloud_source.bl_idname, text=label, depress=source == key)
+            op.source = key
+        if baked is not None:
+            layout.label(text=f"{baked.name}: {baked.data.filepath}", icon="OUTLINER_DATA_VOLUME")
+        if not bpy.data.filepath:
+            layout.label(text="Save the .blend first (output is //cloudgen/)", icon="INFO")
+
+
+classes = (CLOUDGEN_PT_bake,)
