@@ -3,7 +3,6 @@ sweep.py's main and passed to every function that needs it (no module globals).
 """
 from __future__ import annotations
 
-import json
 import pathlib
 import subprocess
 from dataclasses import dataclass, field
@@ -66,14 +65,10 @@ class SweepConfig:
         return self.out / "accuracy.json"
 
     def tiers(self) -> dict:
-        """The quality tiers (cloudgen_native.tiers(), else native/presets/tiers.json), read once."""
+        """The quality tiers (cloudgen_native.tiers()), read once."""
         if self._tiers is None:
             import cloudgen_native as cn
-            if hasattr(cn, "tiers"):
-                self._tiers = cn.tiers()
-            else:
-                path = ROOT / "native/presets/tiers.json"
-                self._tiers = json.loads(path.read_text()) if path.exists() else {}
+            self._tiers = cn.tiers()
         return self._tiers
 
     def cli_help(self) -> str:
