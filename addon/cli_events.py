@@ -45,6 +45,7 @@ class BakeEvents:
     def __init__(self):
         self.plan = None          # the plan event (its "files" name every output)
         self.camera = None        # the camera event, with --camera
+        self.brick = None         # the brick event, with --brick
         self.fraction = 0.0       # 0..1 over the whole run
         self.written = []         # wrote events
         self.copied = []          # copied events
@@ -64,6 +65,8 @@ class BakeEvents:
             self.plan = event
         elif kind == "camera":
             self.camera = event
+        elif kind == "brick":
+            self.brick = event
         elif kind == "progress":
             self.fraction = min(max(float(event["fraction"]), 0.0), 1.0)
         elif kind == "wrote":

@@ -50,6 +50,8 @@ fi
 # cloudgen_native is importable from the venv through a .pth file naming build/python
 site=$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 echo "$root/build/python" > "$site/cloudgen_native_build.pth"
+# python -m cloudgen_dask (distributed bakes) runs from this checkout
+echo "$root/distributed" > "$site/cloudgen_dask_checkout.pth"
 # cycles.osl.update_script_node() imports `oslquery`, which the bpy wheel keeps in
 # Blender's bundled site-packages, off sys.path: make it importable for every user
 # of the venv (appended after the venv's own packages, so it shadows nothing).

@@ -35,6 +35,7 @@ const char* const kBakeHelp =
     "                     [--resolution N] [--quality draft|preview|final] [--camera CAMERA.json]\n"
     "                     [--time T] [--frames A-B [--fps F]] [--update] [--tolerance X] [--no-skip]\n"
     "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet] [--json]\n"
+    "                     [--brick I/N] [--dry-run]\n"
     "\n"
     "Evaluates the cloud density on a voxel grid over the cloud box and writes it\n"
     "as an OpenVDB file: one float grid named `density`, class fog volume,\n"
@@ -68,6 +69,10 @@ const char* const kBakeHelp =
     "  --max-memory GiB    refuse, before allocating, a bake whose estimated memory\n"
     "                      exceeds this budget (default 8)\n"
     "  --quiet             no progress\n"
+    "  --brick I/N         bake only brick I (0-based) of N: the I-th of N contiguous ranges of\n"
+    "                      the grid's 8^3 tiles (one frame only); `cloudgen merge` joins the N\n"
+    "                      bricks into the whole bake (the distributed runner does this)\n"
+    "  --dry-run           check everything and print the plan (files, grid, keys), write nothing\n"
     "  --json              machine-readable output: one JSON object per line on stdout\n"
     "                      (plan, camera, frame, progress, wrote, copied, kept, error;\n"
     "                      docs/cli_protocol.md)\n"
@@ -188,7 +193,8 @@ int cmd_bake(const std::vector<std::string>& argv) {
          {{"--preset", true}, {"--params", true}, {"--sequence", true}, {"--resolution", true},
           {"--quality", true}, {"--camera", true}, {"--output", true}, {"--time", true}, {"--frames", true},
           {"--fps", true}, {"--update", false}, {"--tolerance", true}, {"--no-skip", false}, {"--no-lod", false},
-          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}, {"--json", false}});
+          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}, {"--json", false},
+          {"--brick", true}, {"--dry-run", false}});
   if (a.help()) return std::cout << kBakeHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
 
@@ -224,6 +230,17 @@ int cmd_bake(const std::vector<std::string>& argv) {
   else if (!a.has("--quality") && !camera) throw UsageError("give --resolution N (or --quality TIER or --camera FILE)");
   if (a.has("--tolerance")) opts.tolerance = static_cast<float>(a.number("--tolerance", 0.0, 1.0e30));
   if (a.has("--threads")) opts.threads = static_cast<int>(a.integer("--threads", 0, 1024));
+  if (a.has("--brick")) {
+    const std::string spec = *a.get("--brick");
+    const auto slash = spec.find('/');
+    const auto i = parse_integer(spec.substr(0, slash));
+    const auto n = slash == std::string::npos ? std::nullopt : parse_integer(spec.substr(slash + 1));
+    if (!i || !n || *n < 1 || *n > 1000000 || *i < 0 || *i >= *n)
+      throw UsageError("--brick must be I/N with integers 0 <= I < N <= 1000000; got '" + spec.substr(0, 40) + "'");
+    if (jobs.size() != 1) throw UsageError("--brick splits one grid: give one frame, not a sequence");
+    opts.brick_index = static_cast<int>(*i);
+    opts.brick_count = static_cast<int>(*n);
+  }
   opts.skip_empty = !a.has("--no-skip");
   if (a.has("--no-lod")) opts.lod = false;
   const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
@@ -272,8 +289,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
   {
     const Planned& first = plan.front();
     Fields files = Fields::array();
-    for (const Job& job : jobs)
-      files.push_back({{"frame", job.frame >= 0 ? Fields(job.frame) : Fields()}, {"path", job.path}});
+    for (std::size_t fi = 0; fi < jobs.size(); ++fi)
+      files.push_back({{"frame", jobs[fi].frame >= 0 ? Fields(jobs[fi].frame) : Fields()},
+                       {"path", jobs[fi].path},
+                       {"key", plan[fi].key}});
     const double gib = double(cg::estimate_bake_bytes(first.model, first.opts)) / double(1ull << 30);
     const int threads = cg::resolve_threads(opts.threads);
     char human[300];
@@ -289,6 +308,21 @@ int cmd_bake(const std::vector<std::string>& argv) {
           {"threads", threads},
           {"preset", preset.empty() ? Fields() : Fields(preset)}},
          quiet ? "" : human);
+    if (opts.brick_count > 1) {
+      cg::BakeOptions whole = first.opts;
+      whole.brick_index = 0, whole.brick_count = 1;
+      const std::int64_t total = std::int64_t(first.grid.tiles(0)) * first.grid.tiles(1) * first.grid.tiles(2);
+      const cg::TileSpan span = cg::brick_tiles(total, opts);
+      emit("brick",
+           {{"index", opts.brick_index},
+            {"count", opts.brick_count},
+            {"tiles", {span.first, span.last}},
+            {"tiles_in_grid", total},
+            {"whole_key", cg::bake_key(first.model, whole, half)}},
+           quiet ? "" : "brick " + std::to_string(opts.brick_index) + "/" + std::to_string(opts.brick_count) +
+                            ": tiles " + std::to_string(span.first) + " to " + std::to_string(span.last - 1) +
+                            " of " + std::to_string(total));
+    }
     if (camera) {
       const cg::CameraFit& fit = first.fit;
       Fields fields = {{"visible", fit.visible}};
@@ -306,6 +340,8 @@ int cmd_bake(const std::vector<std::string>& argv) {
       emit("camera", fields, quiet ? "" : line);
     }
   }
+
+  if (a.has("--dry-run")) return kExitOk;
 
   std::map<std::string, const Job*> done;  // bake key -> the frame that has it on disk
   const std::size_t n_jobs = jobs.size();
@@ -349,6 +385,12 @@ int cmd_bake(const std::vector<std::string>& argv) {
     wo.time = job.params.get(cg::TIME);
     wo.resolution = std::max({p.grid.n[0], p.grid.n[1], p.grid.n[2]});
     wo.bake_key = p.key;
+    if (p.opts.brick_count > 1) {
+      cg::BakeOptions whole = p.opts;
+      whole.brick_index = 0, whole.brick_count = 1;
+      wo.brick = std::to_string(p.opts.brick_index) + "/" + std::to_string(p.opts.brick_count);
+      wo.whole_bake_key = cg::bake_key(p.model, whole, half);
+    }
     file.write_with([&](const std::string& tmp) { cgio::write_vdb(tmp, result, wo); });
     if (cancel_requested()) throw cg::Cancelled();
     file.commit();

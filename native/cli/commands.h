@@ -82,6 +82,7 @@ int cmd_presets(const std::vector<std::string>& argv);
 int cmd_params(const std::vector<std::string>& argv);
 int cmd_info(const std::vector<std::string>& argv);
 int cmd_tiers(const std::vector<std::string>& argv);
+int cmd_merge(const std::vector<std::string>& argv);
 
 extern const char* const kUsage;  // cloudgen --help
 

@@ -56,6 +56,7 @@ const char* const kUsage =
     "\n"
     "commands:\n"
     "  bake      evaluate the density on a voxel grid, write FILE.vdb (or a sequence)\n"
+    "  merge     join the bricks of a split bake (bake --brick I/N) into one FILE.vdb\n"
     "  preview   write a 2D cross-section through the cloud box as PNG or EXR\n"
     "  presets   list the cloud types\n"
     "  tiers     list the quality tiers (Draft, Preview, Final) for bake --quality\n"
@@ -111,7 +112,8 @@ int run(const std::vector<std::string>& args) {
   if (verb == "params") return cmd_params(rest);
   if (verb == "info") return cmd_info(rest);
   if (verb == "tiers") return cmd_tiers(rest);
-  throw UsageError("unknown command '" + verb + "'; expected one of bake, preview, presets, tiers, params, info");
+  if (verb == "merge") return cmd_merge(rest);
+  throw UsageError("unknown command '" + verb + "'; expected one of bake, merge, preview, presets, tiers, params, info");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <openvdb/tools/Count.h>
 
 #include <mutex>
+#include <sstream>
 
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
@@ -95,7 +96,81 @@ auto guarded(const std::string& what, F&& f) -> decltype(f()) {
   }
 }
 
+constexpr const char* kBrickMeta = "cloudgen_brick";
+constexpr const char* kWholeKeyMeta = "cloudgen_whole_bake_key";
+
+// Written through our own stream: openvdb::io::File does not report failed
+// writes (a full disk gave exit 0 and a truncated file), the stream state does.
+void write_checked(const std::string& path, const openvdb::GridBase::Ptr& grid) {
+  std::ofstream os(path, std::ios::binary | std::ios::trunc);
+  if (!os) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  std::uint32_t compression = openvdb::io::COMPRESS_ACTIVE_MASK;
+  if (openvdb::io::Archive::hasBloscCompression()) compression |= openvdb::io::COMPRESS_BLOSC;
+  openvdb::io::Stream stream(os);
+  stream.setCompression(compression);
+  openvdb::GridPtrVec grids{grid};
+  stream.write(grids);
+  os.flush();
+  const std::streamoff written = os.good() ? std::streamoff(os.tellp()) : -1;
+  os.close();
+  if (written <= 0 || os.fail() || file_size(path) != written)
+    throw IoError("cannot write '" + path + "': the write failed (disk full?)");
+}
+
+std::string meta_text(const openvdb::GridBase& g, const char* key) {
+  const auto m = g[key];
+  return m ? m->str() : std::string();
+}
+
 }  // namespace
+
+MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::string& path) {
+  init_openvdb();
+  if (bricks.empty()) throw IoError("merge: no bricks given");
+  openvdb::FloatGrid::Ptr out;
+  std::vector<bool> seen;
+  std::string whole_key;
+  for (const std::string& brick : bricks) {
+    const std::string what = "merge: brick '" + brick + "'";
+    openvdb::FloatGrid::Ptr grid = guarded(what, [&] {
+      openvdb::io::File file(brick);
+      file.open(false);
+      if (!file.hasGrid("density")) throw IoError(what + " has no grid named 'density'");
+      auto g = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
+      file.close();
+      if (!g) throw IoError(what + ": grid 'density' is not a float grid");
+      return g;
+    });
+    const std::string tag = meta_text(*grid, kBrickMeta);
+    unsigned long index = 0, count = 0;
+    char slash = 0;
+    std::istringstream in(tag);
+    if (!(in >> index >> slash >> count) || slash != '/' || count == 0 || index >= count || count > 1000000)
+      throw IoError(what + " is not a brick of a split bake (no valid " + kBrickMeta + " metadata)");
+    if (seen.empty()) {
+      seen.assign(count, false);
+      whole_key = meta_text(*grid, kWholeKeyMeta);
+    }
+    if (count != seen.size()) throw IoError(what + " is brick " + tag + ", the first was of " + std::to_string(seen.size()));
+    if (meta_text(*grid, kWholeKeyMeta) != whole_key) throw IoError(what + " belongs to another bake (whole bake key)");
+    if (seen[index]) throw IoError(what + ": brick " + tag + " is given twice");
+    seen[index] = true;
+    if (!out) {
+      out = grid;
+      continue;
+    }
+    if (grid->transform() != out->transform()) throw IoError(what + " has another voxel grid (transform)");
+    out->tree().merge(grid->tree());  // disjoint leaves: every brick's voxels are moved over
+  }
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    if (!seen[i]) throw IoError("merge: brick " + std::to_string(i) + "/" + std::to_string(seen.size()) + " is missing");
+  out->removeMeta(kBrickMeta);
+  out->removeMeta(kWholeKeyMeta);
+  out->removeMeta("cloudgen_bake_key");
+  if (!whole_key.empty()) out->insertMeta("cloudgen_bake_key", openvdb::StringMetadata(whole_key));
+  guarded("cannot write '" + path + "'", [&] { write_checked(path, out); });
+  return {int(seen.size()), static_cast<std::int64_t>(out->activeVoxelCount())};
+}
 
 void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWriteOptions& o) {
   init_openvdb();
@@ -107,25 +182,15 @@ void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWri
     grid->insertMeta("cloudgen_time", openvdb::FloatMetadata(o.time));
     grid->insertMeta("cloudgen_resolution", openvdb::Int32Metadata(o.resolution));
     if (!o.bake_key.empty()) grid->insertMeta("cloudgen_bake_key", openvdb::StringMetadata(o.bake_key));
+    if (!o.brick.empty()) {
+      grid->insertMeta(kBrickMeta, openvdb::StringMetadata(o.brick));
+      grid->insertMeta(kWholeKeyMeta, openvdb::StringMetadata(o.whole_bake_key));
+    }
     grid->insertMeta("cloudgen_lod_worley_octaves", openvdb::FloatMetadata(bake.stats.lod_worley_octaves));
     grid->insertMeta("cloudgen_lod_perlin_octaves", openvdb::FloatMetadata(bake.stats.lod_perlin_octaves));
     grid->setSaveFloatAsHalf(o.half);
 
-    // Written through our own stream: openvdb::io::File does not report failed
-    // writes (a full disk gave exit 0 and a truncated file), the stream state does.
-    std::ofstream os(path, std::ios::binary | std::ios::trunc);
-    if (!os) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
-    std::uint32_t compression = openvdb::io::COMPRESS_ACTIVE_MASK;
-    if (openvdb::io::Archive::hasBloscCompression()) compression |= openvdb::io::COMPRESS_BLOSC;
-    openvdb::io::Stream stream(os);
-    stream.setCompression(compression);
-    openvdb::GridPtrVec grids{grid};
-    stream.write(grids);
-    os.flush();
-    const std::streamoff written = os.good() ? std::streamoff(os.tellp()) : -1;
-    os.close();
-    if (written <= 0 || os.fail() || file_size(path) != written)
-      throw IoError("cannot write '" + path + "': the write failed (disk full?)");
+    write_checked(path, grid);
   });
 }
 

@@ -31,11 +31,26 @@ struct VdbWriteOptions {
   float time = 0.0f;         // the `time` parameter baked
   int resolution = 0;
   std::string bake_key;      // field key + bake settings (`bake --update` compares it)
+  // A brick of a split bake (BakeOptions::brick_*): "I/N" and the key the whole
+  // bake has; `cloudgen merge` checks and drops both. Empty: a whole bake.
+  std::string brick;
+  std::string whole_bake_key;
 };
 
 // Writes `bake` to `path` (the caller passes a temporary, see atomic_file.h).
 // Throws IoError. Calls openvdb::initialize() once.
 void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWriteOptions& options);
+
+// Merges the bricks of one split bake (every "I/N" of one N, one whole-bake key,
+// one transform) into `path` (a temporary, see atomic_file.h): one `density`
+// grid with the whole bake's key and the bricks' other metadata. Reads one
+// brick at a time into the sparse result: memory is the result plus one brick.
+// Throws IoError naming the brick that is missing, repeated or does not fit.
+struct MergeStats {
+  int bricks = 0;
+  std::int64_t active_voxels = 0;
+};
+MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::string& path);
 
 // One grid of a file as read back by OpenVDB.
 struct VdbGridInfo {

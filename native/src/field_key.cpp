@@ -78,6 +78,7 @@ std::string bake_key(const Model& m, const BakeOptions& o, bool half) {
   h.i(half);
   h.i(o.use_region);
   h.f(o.tolerance);
+  if (o.brick_count > 1) h.i(o.brick_index), h.i(o.brick_count);  // a whole bake keeps its key
   if (o.use_region) {
     for (const Plane& p : o.region.planes) h.v3(p.n), h.f(p.d);
     for (int l = 0; l < o.region.light_count; ++l) h.v3(o.region.lights[l]);

@@ -67,15 +67,23 @@ bool tile_culled(const BakeOptions& o, const GridSpec& g, const TileRange& r) {
 
 }  // namespace
 
+TileSpan brick_tiles(std::int64_t total, const BakeOptions& o) {
+  const std::int64_t n = std::max(o.brick_count, 1);
+  const std::int64_t i = std::clamp<std::int64_t>(o.brick_index, 0, n - 1);
+  // total * i / n without overflow: total < 2^62 / n for any grid that fits in memory
+  return {total / n * i + total % n * i / n, total / n * (i + 1) + total % n * (i + 1) / n};
+}
+
 std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
   const GridSpec g = bake_grid(m, o);
-  const std::int64_t total = tile_count(g);
+  const TileSpan span = brick_tiles(tile_count(g), o);
+  const std::int64_t total = span.last - span.first;
   // Counting candidates one by one is cheap (no noise) up to ~10^8 tiles;
   // beyond that the worst case (every tile) is the estimate.
   std::int64_t candidates = total;
   if ((o.skip_empty || o.use_region) && total <= (std::int64_t(1) << 27)) {
     candidates = 0;
-    for (std::int64_t t = 0; t < total; ++t) {
+    for (std::int64_t t = span.first; t < span.last; ++t) {
       const TileRange r = tile_range(g, t);
       if (tile_culled(o, g, r)) continue;
       if (!o.skip_empty || tile_bound(m, g, r) > 0.0f) ++candidates;
@@ -95,7 +103,8 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
   result.stats.lod_worley_octaves = lod.worley_octaves;
   result.stats.lod_perlin_octaves = lod.perlin_octaves;
 
-  const std::int64_t total = tile_count(g);
+  const TileSpan span = brick_tiles(tile_count(g), o);
+  const std::int64_t total = span.last - span.first;
   const int threads = resolve_threads(o.threads);
   struct WorkerOut {
     std::vector<Tile> tiles;
@@ -105,7 +114,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
 
   auto body = [&](std::int64_t t, int worker) {
     WorkerOut& w = out[worker];
-    const TileRange r = tile_range(g, t);
+    const TileRange r = tile_range(g, span.first + t);
     if (tile_culled(o, g, r)) {
       ++w.stats.tiles_culled;
       return;

@@ -21,6 +21,9 @@ import pytest
 from test_cli import REPO_ROOT, TIMEOUT, cli_events, events, expect_usage_error, info_json, listing
 from test_cli import run as run_cli
 
+sys.path.insert(0, str(REPO_ROOT / "tests"))
+from vdb_voxels import read_voxels  # noqa: E402
+
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
 CUMULUS_BOX = (4.0, 4.0, 3.0)  # cumulus preset box_size: origin at the centre, x/y in [-2, 2], z in [-1.5, 1.5]
 LONGEST = 4.0
@@ -85,30 +88,6 @@ def camera_lines(result):
     cam, wrote = ev.camera, ev.written[0]
     fit = (cam["nearest_depth"], cam["footprint"], cam["voxel"], cam["margin"]) if cam["visible"] else None
     return fit, (wrote["voxel"], wrote["tiles_total"] - wrote["tiles_culled"], wrote["tiles_total"])
-
-
-def read_voxels(path):
-    """{(i, j, k): value} of the active voxels of grid `density`, and the world position of
-    index (0, 0, 0), read with openvdb in a child process (skips without openvdb)."""
-    script = r"""
-import json, sys, itertools
-import openvdb
-g = openvdb.read(sys.argv[1], "density")
-out = {}
-for it in g.citerOnValues():
-    lo, hi = it.min, it.max
-    for c in itertools.product(*(range(lo[a], hi[a] + 1) for a in range(3))):  # tiles: every voxel
-        out[",".join(map(str, c))] = float(it.value)
-print(json.dumps({"voxels": out, "origin": list(g.transform.indexToWorld((0, 0, 0))),
-                  "voxel": list(g.transform.voxelSize())}))
-"""
-    r = subprocess.run([sys.executable, "-c", script, str(path)], capture_output=True, text=True, timeout=TIMEOUT)
-    if r.returncode != 0 and "No module named 'openvdb'" in r.stderr:
-        pytest.skip("openvdb Python module not available")
-    assert r.returncode == 0, r.stderr
-    doc = json.loads(r.stdout.splitlines()[-1])
-    voxels = {tuple(int(x) for x in k.split(",")): v for k, v in doc["voxels"].items()}
-    return voxels, tuple(doc["origin"]), tuple(doc["voxel"])
 
 
 def bake_keys(paths):

@@ -45,7 +45,19 @@ struct BakeOptions {
   float voxel = 0.0f;      // > 0: this voxel edge instead of `resolution` (camera-aware bake)
   bool use_region = false; // bake only tiles that meet `region` (camera-aware bake)
   Frustum region{};
+  // A brick of a bake split across processes or machines: of the grid's tiles,
+  // in index order (x fastest, then y, then z), the brick_index-th of
+  // brick_count contiguous, near-equal ranges. Bricks of one grid are disjoint,
+  // and their tiles together are the whole bake's, value for value.
+  int brick_index = 0;
+  int brick_count = 1;
 };
+
+// Tile index range [first, last) of the options' brick, of `total` tiles.
+struct TileSpan {
+  std::int64_t first, last;
+};
+TileSpan brick_tiles(std::int64_t total, const BakeOptions& options);
 
 GridSpec bake_grid(const Model& m, const BakeOptions& options);
 
