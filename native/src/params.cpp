@@ -17,7 +17,8 @@ const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.70f, 0.85f, 0.90f, 0.90f,
 // One row of param_list.h per entry, in the enum's order (the same rows make the enum).
 #define CG_PARAM_UNPAREN(...) __VA_ARGS__
 #define CG_PARAM(ENUM, key, label, group, kind, defaults, min, max, soft_min, soft_max, map_lo, map_hi, unit, help) \
-  {key, label, group, Kind::kind, {CG_PARAM_UNPAREN defaults}, min, max, soft_min, soft_max, map_lo, map_hi, unit, help},
+  {key, label, group, Kind::kind, {CG_PARAM_UNPAREN defaults}, min, max, soft_min, soft_max, map_lo, map_hi,     \
+   unit, help},
 const ParamDecl kParams[PARAM_COUNT] = {
 #include "cloudgen/param_list.h"
 };
