@@ -28,7 +28,7 @@ CURVE_POINTS = 17
 
 def ensure_oslquery_importable():
     """cycles.osl.update_script_node imports `oslquery`, which the bpy wheel keeps
-    in Blender's bundled site-packages, off sys.path (NOTES.md)."""
+    in Blender's bundled site-packages, off sys.path."""
     import bpy
 
     path = os.path.join(bpy.utils.resource_path("LOCAL"), "python", "lib",

@@ -2,7 +2,7 @@
 //
 // Plain CPython C API under the limited API (abi3, Python >= 3.11), so the one
 // build loads in every Blender with Python 3.11 or later. Links only the pure
-// core: no OpenVDB, OpenImageIO or TBB (DESIGN.md §2). numpy is imported at
+// core: no OpenVDB, OpenImageIO or TBB (only the CLI sees those). numpy is imported at
 // run time to create output arrays; its C headers are not used.
 #include <algorithm>
 #include <cctype>

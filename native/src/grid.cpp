@@ -82,7 +82,7 @@ std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
     }
   }
   // 4 bytes per voxel in the tile list, ~5.5 bytes per active voxel in an
-  // OpenVDB float tree (measured, NOTES.md), and the tile index.
+  // OpenVDB float tree (a measured figure), and the tile index.
   const double per_tile = kTileVoxels * (4.0 + 5.5) + 64.0;
   return static_cast<std::int64_t>(double(candidates) * per_tile);
 }
