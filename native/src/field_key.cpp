@@ -1,11 +1,18 @@
 // field_key.cpp — a fingerprint of the density field a parameter set makes.
 //
 // density() is a pure function of the prepared Model (model.h), so the key
-// hashes exactly what prepare() hands the kernel: box, shape, frequencies,
-// the wrapped noise offsets and the 4th noise coordinate. Time reaches the
-// field only through those offsets (wind × time) and w4 (time × evolution),
-// so a still cloud — no wind, no evolution — has one key at every time, and
-// so do parameter sets that differ only where the kernel cannot tell.
+// hashes exactly what prepare() hands the kernel: every row of
+// model_fields.h, in its order (box, shape, frequencies, the wrapped noise
+// offsets, the 4th noise coordinate, the noise weights, the seed). Time
+// reaches the field only through those offsets (wind × time) and w4
+// (time × evolution), so a still cloud — no wind, no evolution — has one key
+// at every time, and so do parameter sets that differ only where the kernel
+// cannot tell.
+//
+// Two special cases, both explicit below:
+//   - density 0 zeroes the field: one key for every such Model;
+//   - shape_mode picks the profile: the exponent is hashed only in mode 0,
+//     the curve only in mode 1 (each row's key_rule).
 #include "cloudgen/field_key.h"
 
 #include <cstdint>
@@ -29,6 +36,17 @@ struct Fnv1a {
   }
   void i(std::int32_t v) { bytes(&v, sizeof v); }
   void v3(const vec3& v) { f(v[0]), f(v[1]), f(v[2]); }
+  // One Model field by its type; any other type is a compile error, so a new
+  // field type must choose its bytes here.
+  void add(float v) { f(v); }
+  void add(std::int32_t v) { i(v); }
+  void add(const vec3& v) { v3(v); }
+  template <std::size_t N>
+  void add(const float (&a)[N]) {
+    for (float v : a) f(v);
+  }
+  template <class T>
+  void add(const T&) = delete;
 };
 
 std::string hex(std::uint64_t v) {
@@ -36,6 +54,18 @@ std::string hex(std::uint64_t v) {
   std::string out(16, '0');
   for (int k = 0; k < 16; ++k) out[k] = digits[(v >> (60 - 4 * k)) & 0xf];
   return out;
+}
+
+// When a field reaches the density (the key_rule column of model_fields.h).
+enum class KeyRule { Always, ExponentShape, CurveShape };
+
+bool reaches_field(KeyRule rule, const Model& m) {
+  switch (rule) {
+    case KeyRule::Always: return true;
+    case KeyRule::ExponentShape: return m.shape_mode != 1;  // cg_profile uses the exponent unless mode is 1
+    case KeyRule::CurveShape: return m.shape_mode == 1;
+  }
+  return true;
 }
 
 }  // namespace
@@ -49,21 +79,12 @@ std::string field_key(const Model& m) {
     h.i(0x7a65726f);
     return hex(h.h);
   }
-  h.v3(m.box);
-  h.f(m.cloud_scale);
-  h.i(m.shape_mode);
-  if (m.shape_mode == 1) {
-    for (float c : m.curve) h.f(c);
-  } else {
-    h.f(m.shape_exponent);
-  }
-  for (float v : {m.distortion, m.density, m.worley_frequency, m.perlin_frequency}) h.f(v);
-  h.v3(m.worley_offset);
-  h.v3(m.perlin_offset);
-  h.f(m.w4);
-  for (float v : {m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail, m.noise_whisp})
-    h.f(v);
-  h.i(m.seed);
+#define CG_MODEL_FIELD(type, name, key_rule) \
+  if (reaches_field(KeyRule::key_rule, m)) h.add(m.name);
+#define CG_MODEL_ARRAY(type, name, count, key_rule) CG_MODEL_FIELD(type, name, key_rule)
+#include "cloudgen/model_fields.h"
+#undef CG_MODEL_ARRAY
+#undef CG_MODEL_FIELD
   return hex(h.h);
 }
 

@@ -27,7 +27,7 @@ float core_max(const Model& m, float a, float b) {
     return best;
   }
   // 1 - u^2 with u = 2 h^e - 1 increasing in h: the largest value is where |u| is smallest.
-  const float e = std::clamp(m.shape_exponent, 0.01f, 100.0f);
+  const float e = std::clamp(m.shape_exponent, CG_EXPONENT_MIN, CG_EXPONENT_MAX);
   const float ua = 2.0f * pow(a, e) - 1.0f;
   const float ub = 2.0f * pow(b, e) - 1.0f;
   return 1.0f - min_square(ua, ub);
@@ -75,7 +75,7 @@ Lod lod_for_footprint(const Model& m, float footprint) {
 
 float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
   float t_lo[3], t_hi[3];
-  const float inv = 1.0f / std::clamp(std::fabs(m.cloud_scale), 0.001f, 1000.0f);
+  const float inv = 1.0f / std::clamp(std::fabs(m.cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   for (int i = 0; i < 3; ++i) {
     const float half = 0.5f * m.box[i];
     const float a = std::max(lo[i], -half), b = std::min(hi[i], half);

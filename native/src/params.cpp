@@ -1,4 +1,4 @@
-// params.cpp — the parameter table (the one declaration) and validation.
+// params.cpp — the parameter table (expanded from param_list.h) and validation.
 #include "cloudgen/params.h"
 
 #include <cmath>
@@ -14,55 +14,16 @@ const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.70f, 0.85f, 0.90f, 0.90f,
                                               0.82f, 0.75f, 0.67f, 0.58f, 0.48f, 0.38f,
                                               0.28f, 0.19f, 0.11f, 0.04f, 0.00f};
 
-// clang-format off
+// One row of param_list.h per entry, in the enum's order (the same rows make the enum).
+#define CG_PARAM_UNPAREN(...) __VA_ARGS__
+#define CG_PARAM(ENUM, key, label, group, kind, defaults, min, max, soft_min, soft_max, map_lo, map_hi, unit, help) \
+  {key, label, group, Kind::kind, {CG_PARAM_UNPAREN defaults}, min, max, soft_min, soft_max, map_lo, map_hi,     \
+   unit, help},
 const ParamDecl kParams[PARAM_COUNT] = {
-  // key, label, group, kind, default, min, max, soft_min, soft_max, map_lo, map_hi, unit, help
-  {"cloud_scale", "Cloud Scale", "Cloud Main", Kind::Float, {0.85f}, 0.05f, 1.0f, 0.05f, 1.0f, 0, 1,
-   "fraction of the box", "Size of the cloud inside its box: 1 touches the box faces, smaller values shrink it about the centre."},
-  {"density", "Density", "Cloud Main", Kind::Float, {0.5f}, 0.0f, 10.0f, 0.0f, 1.0f, 0, CG_DENSITY_SCALE,
-   "slider (x20 per scene unit)", "Density handed to the volume shader: the physical density is 20 x this value x the shape density (about 1 in the cloud's core)."},
-  {"distortion", "Distortion", "Cloud Main", Kind::Float, {0.7f}, 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
-   "", "How strongly the Cloud Noise texture distorts the shape (F in eq. 3.4)."},
-  {"shape_mode", "Shape Source", "Cloud Main", Kind::Int, {0}, 0, 1, 0, 1, 0, 1,
-   "0 exponent, 1 curve", "Where the height profile comes from: 0 the Shape Exponent, 1 the Shape Gradient curve."},
-  {"shape_exponent", "Shape Exponent", "Cloud Main", Kind::Float, {0.6f}, 0.05f, 20.0f, 0.1f, 4.0f, 0, 1,
-   "", "Height-profile exponent e in S = 1 - (2 h^e - 1)^2: below 1 a flat base and a dome, above 1 a wide top."},
-  {"shape_curve", "Shape Gradient", "Cloud Main", Kind::Curve, {0}, 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-   "squared radius", "Height profile as 17 samples at heights 0, 1/16, ..., 1 (used when Shape Source is 1)."},
-  {"overall_scale", "Overall Scale", "Cloud Noise", Kind::Float, {1.0f}, 0.01f, 20.0f, 0.1f, 4.0f, 0, 1,
-   "", "Scales the whole texture: larger values give smaller, more numerous features."},
-  {"worley_influence", "Worley Influence", "Cloud Noise", Kind::Float, {0.8f}, 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-   "", "Weight of the Worley (billow) component."},
-  {"worley_clump", "Worley Clump", "Cloud Noise", Kind::Float, {0.5f}, 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
-   "gain", "Gain of the Worley fBm: higher values add smaller billows on the large ones."},
-  {"wave", "Wave", "Cloud Noise", Kind::Float, {0.0f}, 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-   "", "Mixes a sine texture into the Worley component for wave-like banding (cirrus)."},
-  {"noise_influence", "Noise Influence", "Cloud Noise", Kind::Float, {0.6f}, 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-   "", "Weight of the gradient-noise fBm (fine detail, frayed edges)."},
-  {"noise_scale", "Noise Scale", "Cloud Noise", Kind::Float, {1.0f}, 0.01f, 20.0f, 0.1f, 4.0f, 0, 1,
-   "", "Extra scale of the gradient-noise fBm relative to the Worley texture."},
-  {"noise_detail", "Noise Detail", "Cloud Noise", Kind::Float, {5.0f}, 0.0f, 16.0f, 1.0f, 12.0f, 0, 1,
-   "octaves", "Octaves of the gradient-noise fBm; a fractional part fades the last octave in."},
-  {"noise_whisp", "Noise Whisp", "Cloud Noise", Kind::Float, {0.5f}, 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
-   "gain", "Gain of the gradient-noise fBm: higher values give wispier, finer detail."},
-  {"seed", "Seed", "Cloud Noise", Kind::Int, {0}, 0, 1000000, 0, 1000, 0, 1,
-   "", "Variation: a different seed gives a different cloud of the same kind."},
-  {"wind_strength", "Wind Strength", "Animation", Kind::Float, {0.0f}, 0.0f, 100.0f, 0.0f, 1.0f, 0, 1,
-   "scene units per second", "Speed at which the texture drifts along the wind direction."},
-  {"wind_direction", "Wind Direction", "Animation", Kind::Vector, {1.0f, 0.0f, 0.0f}, -1.0f, 1.0f, -1.0f, 1.0f, 0, 1,
-   "direction", "Direction of the drift (normalised; zero means no drift)."},
-  {"stationary", "Stationary", "Animation", Kind::Float, {1.0f}, 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-   "", "How much the texture follows the object: 1 moves with it, 0 stays fixed in the world."},
-  {"time", "Time", "Animation", Kind::Float, {0.0f}, -1.0e6f, 1.0e6f, 0.0f, 250.0f, 0, 1,
-   "seconds", "Time in seconds: drives wind drift and evolution."},
-  {"evolution", "Evolution", "Animation", Kind::Float, {0.1f}, 0.0f, 10.0f, 0.0f, 1.0f, 0, 1,
-   "noise cells per second", "Speed of the shape change that is not drift (the fourth noise dimension)."},
-  {"box_size", "Box Size", "Box", Kind::Vector, {2.0f, 2.0f, 2.0f}, 0.001f, 1.0e5f, 0.1f, 100.0f, 0, 1,
-   "scene units", "Dimensions of the cloud box (the object's scale included)."},
-  {"object_location", "Object Location", "Box", Kind::Vector, {0.0f, 0.0f, 0.0f}, -1.0e7f, 1.0e7f, -100.0f, 100.0f, 0, 1,
-   "scene units", "World location of the cloud object (used by Stationary)."},
+#include "cloudgen/param_list.h"
 };
-// clang-format on
+#undef CG_PARAM
+#undef CG_PARAM_UNPAREN
 
 const char* kind_name(Kind k) {
   switch (k) {

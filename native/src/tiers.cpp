@@ -79,10 +79,8 @@ std::vector<Tier> parse_tiers(std::string_view text) {
       tier.bake_pixels_per_voxel = static_cast<float>(number(bake, "pixels_per_voxel", kMinPixelsPerVoxel, kMaxPixelsPerVoxel, where + ".bake"));
     const json& preview = section(t, "preview", where);
     tier.preview_size = integer(preview, "size", 1, 16384, where + ".preview");
-    if (const auto m = t.find("measured"); m != t.end()) {
-      if (!m->is_object()) throw ParamError(where + ".measured must be an object");
-      tier.measured_json = m->dump();
-    }
+    if (const auto m = t.find("measured"); m != t.end() && !m->is_object())
+      throw ParamError(where + ".measured must be an object");
     out.push_back(std::move(tier));
   }
   return out;

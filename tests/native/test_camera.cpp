@@ -1,15 +1,12 @@
-// test_camera.cpp — the camera-aware bake (camera.h), field keys
-// (field_key.h) and the quality tiers data (tiers.h).
+// test_camera.cpp — the camera-aware bake (camera.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "cloudgen/camera.h"
-#include "cloudgen/field_key.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/param_io.h"
-#include "cloudgen/tiers.h"
 #include "test_util.h"
 
 namespace {
@@ -149,62 +146,6 @@ TEST(Camera, BadCameraFilesNameTheKey) {
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 8, 8, ", \"light_directions\": [[0,0,0]]"), "light_directions");
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 8, 8, ", \"zoom\": 2"), "zoom");
   expect_error("[1, 2]", "object");
-}
-
-TEST(FieldKey, TimeDropsOutOfAStillCloudOnly) {
-  cg::Params still = preset("cumulus");
-  still.set(cg::EVOLUTION, 0.0f);
-  still.set(cg::WIND_STRENGTH, 0.0f);
-  cg::Params later = still;
-  later.set(cg::TIME, 12.5f);
-  EXPECT_EQ(cg::field_key(still), cg::field_key(later)) << "no wind, no evolution: time cannot change the field";
-  cg::Params evolving = still, evolving_later = still;
-  evolving.set(cg::EVOLUTION, 0.1f);
-  evolving_later.set(cg::EVOLUTION, 0.1f);
-  evolving_later.set(cg::TIME, 12.5f);
-  EXPECT_NE(cg::field_key(evolving), cg::field_key(evolving_later));
-  // Every parameter slot changes the key when it changes the field.
-  const std::string base = cg::field_key(still);
-  EXPECT_NE(cg::field_key([&] { cg::Params p = still; p.set(cg::DENSITY, 0.7f); return p; }()), base);
-  EXPECT_NE(cg::field_key([&] { cg::Params p = still; p.set(cg::SEED, 3.0f); return p; }()), base);
-  EXPECT_NE(cg::field_key([&] { cg::Params p = still; p.set(cg::NOISE_DETAIL, 3.0f); return p; }()), base);
-  EXPECT_EQ(base.size(), 16u);
-}
-
-TEST(Tiers, DataFileHasDraftPreviewFinalInOrderOfCost) {
-  const auto& t = cg::tiers();
-  ASSERT_EQ(t.size(), 3u);
-  EXPECT_EQ(t[0].name, "draft");
-  EXPECT_EQ(t[1].name, "preview");
-  EXPECT_EQ(t[2].name, "final");
-  for (std::size_t i = 1; i < t.size(); ++i) {
-    EXPECT_GE(t[i].render_samples, t[i - 1].render_samples) << t[i].name;
-    EXPECT_LE(t[i].render_step_rate, t[i - 1].render_step_rate) << t[i].name << " (smaller steps cost more)";
-    EXPECT_GE(t[i].bake_resolution, t[i - 1].bake_resolution) << t[i].name;
-  }
-  EXPECT_EQ(cg::find_tier("nope"), nullptr);
-}
-
-TEST(Tiers, BadTiersNameTheTierAndKey) {
-  const std::string ok_render = "\"render\": {\"samples\": 4, \"step_rate\": 1}";
-  const std::string ok_bake = "\"bake\": {\"resolution\": 8, \"lod\": true, \"tolerance\": 0, \"half\": false}";
-  const std::string ok_preview = "\"preview\": {\"size\": 8}";
-  const auto tier = [&](const std::string& render, const std::string& bake) {
-    return "{\"t\": {\"label\": \"T\", \"description\": \"d\", " + render + ", " + bake + ", " + ok_preview + "}}";
-  };
-  EXPECT_EQ(cg::parse_tiers(tier(ok_render, ok_bake)).size(), 1u);
-  try {
-    cg::parse_tiers(tier("\"render\": {\"samples\": 4.5, \"step_rate\": 1}", ok_bake));
-    ADD_FAILURE() << "fractional samples accepted";
-  } catch (const cg::ParamError& e) {
-    EXPECT_NE(std::string(e.what()).find("tier 't'.render.samples"), std::string::npos) << e.what();
-  }
-  try {
-    cg::parse_tiers(tier(ok_render, "\"bake\": {\"resolution\": 8, \"lod\": 1, \"tolerance\": 0, \"half\": false}"));
-    ADD_FAILURE() << "numeric lod accepted";
-  } catch (const cg::ParamError& e) {
-    EXPECT_NE(std::string(e.what()).find("lod"), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

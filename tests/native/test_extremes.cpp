@@ -2,7 +2,7 @@
 // parameters written with Params::set_unchecked) at and far beyond the declared
 // limits, and the field far from the origin.
 //
-// Property (DESIGN.md §2.4, model.h): for every finite parameter value and every
+// Property (docs/model.md §7, model.h): for every finite parameter value and every
 // finite point, density is finite and >= 0 and N is in [0, 1].
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// test_model.cpp — the cloud model (eq. 3.4, DESIGN.md §3) through cg::prepare,
+// test_model.cpp — the cloud model (eq. 3.4, docs/model.md §4) through cg::prepare,
 // cg::shape_at, cg::noise_at and cg::density: hand-computed values with the
 // noise switched off, the zero level set, linearity in Density, Stationary and wind.
 #include <gtest/gtest.h>

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <set>
 #include <string>
@@ -65,6 +67,31 @@ TEST(Params, DeclarationsAreConsistent) {
   EXPECT_EQ(cg::component_count(cg::Kind::Vector), 3);
   // The Density mapping is the shared constant (used by the OSL side too).
   EXPECT_EQ(cg::Params().physical(cg::DENSITY), 0.5f * float(CG_DENSITY_SCALE));
+}
+
+TEST(Params, EveryEnumValueNamesItsRow) {
+  // param_list.h makes the enum and the table from the same rows; this pins
+  // the convention that a row's key is its enumerator in lower case, and
+  // that kParams[ENUM] is that row (exact string comparison).
+  struct Row {
+    cg::P p;
+    const char* enumerator;
+    const char* key;
+  };
+  const Row rows[] = {
+#define CG_PARAM(ENUM, key, ...) {cg::ENUM, #ENUM, key},
+#include "cloudgen/param_list.h"
+#undef CG_PARAM
+  };
+  ASSERT_EQ(std::size(rows), std::size_t(cg::PARAM_COUNT));
+  for (std::size_t i = 0; i < std::size(rows); ++i) {
+    const Row& r = rows[i];
+    std::string lower = r.enumerator;
+    for (char& ch : lower) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    EXPECT_EQ(int(r.p), int(i)) << r.enumerator << ": enum value out of row order";
+    EXPECT_STREQ(cg::kParams[r.p].key, r.key) << "kParams[" << r.enumerator << "]";
+    EXPECT_EQ(lower, r.key) << "the key of row " << r.enumerator << " is not its enumerator in lower case";
+  }
 }
 
 TEST(Params, PresetsAreWithinRange) {

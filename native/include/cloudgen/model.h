@@ -12,21 +12,13 @@
 
 namespace cg {
 
+// The fields are the rows of model_fields.h (the same rows make the field key).
 struct Model {
-  vec3 box;                 // box dimensions, scene units (> 0)
-  float cloud_scale;
-  int shape_mode;
-  float shape_exponent;
-  float curve[CG_CURVE_POINTS];
-  float distortion;
-  float density;            // physical multiplier (slider × 20)
-  float worley_frequency;   // lattice cells per scene unit
-  float perlin_frequency;
-  vec3 worley_offset;       // wrapped, in lattice units
-  vec3 perlin_offset;
-  float w4;                 // 4th noise coordinate (time × evolution, wrapped)
-  float worley_influence, worley_clump, wave, noise_influence, noise_detail, noise_whisp;
-  int seed;
+#define CG_MODEL_FIELD(type, name, key_rule) type name;
+#define CG_MODEL_ARRAY(type, name, count, key_rule) type name[count];
+#include "cloudgen/model_fields.h"
+#undef CG_MODEL_ARRAY
+#undef CG_MODEL_FIELD
 };
 
 // Octaves each noise may evaluate (level of detail); kNoLod evaluates all.

@@ -1,7 +1,8 @@
 // cloudgen/params.h — every user parameter, declared once.
 //
-// The table kParams is the single source of truth for names, defaults,
-// ranges, units, help texts and slider mappings. The CLI's parameter files,
+// The rows of param_list.h are the single source of truth for names,
+// defaults, ranges, units, help texts and slider mappings: they expand into
+// the enum P here and into the table kParams in params.cpp. The CLI's parameter files,
 // the Python module (parameters()), the OSL metadata and the add-on's sockets
 // are fed from it or checked against it by tests.
 //
@@ -38,13 +39,11 @@ struct ParamDecl {
   const char* help;
 };
 
-// Parameter indices, in declaration order.
+// Parameter indices, in declaration order: the first column of param_list.h.
 enum P : int {
-  CLOUD_SCALE, DENSITY, DISTORTION, SHAPE_MODE, SHAPE_EXPONENT, SHAPE_CURVE,
-  OVERALL_SCALE, WORLEY_INFLUENCE, WORLEY_CLUMP, WAVE, NOISE_INFLUENCE, NOISE_SCALE,
-  NOISE_DETAIL, NOISE_WHISP, SEED,
-  WIND_STRENGTH, WIND_DIRECTION, STATIONARY, TIME, EVOLUTION,
-  BOX_SIZE, OBJECT_LOCATION,
+#define CG_PARAM(ENUM, ...) ENUM,
+#include "cloudgen/param_list.h"
+#undef CG_PARAM
   PARAM_COUNT
 };
 

@@ -3,9 +3,10 @@
 //
 // A tier fixes the knobs a user trades speed for accuracy with: Cycles samples
 // and volume step rate for rendering, resolution / LOD / drop tolerance /
-// half floats for baking, and the 2D preview's size. Its "measured" object
-// holds the figures the benchmark wrote (per scene: times and errors) for the
-// docs and the add-on's tooltips; it may be empty.
+// half floats for baking, and the 2D preview's size. A tier's optional
+// "measured" object (the benchmark's figures per scene: times and errors) is
+// checked to be an object but not kept here: the add-on and the docs read it
+// from tiers_json().
 #pragma once
 
 #include <string>
@@ -26,7 +27,6 @@ struct Tier {
   bool bake_half = false;
   float bake_pixels_per_voxel = kDefaultPixelsPerVoxel;  // camera-aware bakes: voxel edge in pixel footprints
   int preview_size = 256;
-  std::string measured_json = "{}";
 };
 
 // The tiers in the data file's order (Draft, Preview, Final).

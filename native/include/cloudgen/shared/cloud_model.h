@@ -29,6 +29,15 @@ CG_NAMESPACE_BEGIN
 #define CG_TWO_PI CG_FLOAT(6.2831853)
 #define CG_COORD_LIMIT CG_FLOAT(1.0e9) /* kernel clamp of offsets and times (finite in, finite out) */
 #define CG_SEED_SALT_WORLEY 1597334677
+/* Kernel clamps, shared with the region bound (model.cpp: shape_upper_bound, core_max) so that the bound
+ * and the kernel evaluate the same profile. Wider than the declared parameter ranges: they only keep the
+ * formulas finite (docs/model.md, "The kernel's safe domain"). */
+#define CG_CLOUD_SCALE_MIN CG_FLOAT(0.001)  /* |Cloud Scale| */
+#define CG_CLOUD_SCALE_MAX CG_FLOAT(1000.0)
+#define CG_EXPONENT_MIN CG_FLOAT(0.01)      /* Shape Exponent */
+#define CG_EXPONENT_MAX CG_FLOAT(100.0)
+#define CG_NOISE_SCALE_MIN CG_FLOAT(0.0001) /* Overall Scale and Noise Scale */
+#define CG_NOISE_SCALE_MAX CG_FLOAT(10000.0)
 
 /* ---------------------------------------------------------------- shape --- */
 
@@ -44,7 +53,7 @@ CG_FN float cg_curve_eval(CG_IN_ARRAY curve[CG_CURVE_POINTS], float h) {
 /* Height parameter of the profile: h = (T_z + 1) / 2 with T_z = (2 G_z - 1) / cloud_scale;
  * the cloud spans h in [0, 1]. */
 CG_FN float cg_height(float gz, float cloud_scale) {
-  float inv = 1 / clamp(fabs(cloud_scale), CG_FLOAT(0.001), 1000);
+  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   return ((2 * gz - 1) * inv + 1) / 2;
 }
 
@@ -61,7 +70,7 @@ CG_FN float cg_profile(float h, int mode, float exponent, float curve_value) {
   float hc = clamp(h, 0, 1);
   float core = curve_value;
   if (mode != 1) {
-    float u = 2 * pow(hc, clamp(exponent, CG_FLOAT(0.01), 100)) - 1;
+    float u = 2 * pow(hc, clamp(exponent, CG_EXPONENT_MIN, CG_EXPONENT_MAX)) - 1;
     core = 1 - u * u;
   }
   float out = h - hc;
@@ -70,7 +79,7 @@ CG_FN float cg_profile(float h, int mode, float exponent, float curve_value) {
 
 /* Shape term of eq. 3.4: S(h) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
 CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value) {
-  float inv = 1 / clamp(fabs(cloud_scale), CG_FLOAT(0.001), 1000);
+  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   float tx = (2 * g[0] - 1) * inv;
   float ty = (2 * g[1] - 1) * inv;
   return cg_profile(cg_height(g[2], cloud_scale), mode, exponent, curve_value) - tx * tx - ty * ty;
@@ -92,12 +101,13 @@ CG_FN float cg_cloud_main(float shape, float noise, float distortion, float dens
 
 /* Worley lattice cells per scene unit. */
 CG_FN float cg_worley_frequency(float overall_scale) {
-  return CG_BASE_FREQUENCY * clamp(overall_scale, CG_FLOAT(0.0001), 10000);
+  return CG_BASE_FREQUENCY * clamp(overall_scale, CG_NOISE_SCALE_MIN, CG_NOISE_SCALE_MAX);
 }
 
 /* Gradient-noise lattice cells per scene unit. */
 CG_FN float cg_perlin_frequency(float overall_scale, float noise_scale) {
-  return cg_worley_frequency(overall_scale) * CG_PERLIN_RELATIVE * clamp(noise_scale, CG_FLOAT(0.0001), 10000);
+  return cg_worley_frequency(overall_scale) * CG_PERLIN_RELATIVE *
+         clamp(noise_scale, CG_NOISE_SCALE_MIN, CG_NOISE_SCALE_MAX);
 }
 
 /* Level of detail: how many octaves of a noise with base `frequency` (cells
