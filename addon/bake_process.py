@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 
 try:
     from . import cli_events
-except ImportError:  # loaded by its path with addon/ on sys.path (tests/addon_bake/test_bake_process.py)
+except ImportError:  # loaded by its path (tests/addon_bake/test_bake_process.py loads cli_events first)
     import cli_events
 
 OK, IO_ERROR, BAD_ARGUMENT, CANCELLED = 0, 1, 2, 130

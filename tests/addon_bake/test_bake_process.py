@@ -19,11 +19,19 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CLI = ROOT / "build" / "bin" / "cloudgen"
-sys.path.insert(0, str(ROOT / "addon"))  # bake_process imports its sibling cli_events
-_spec = importlib.util.spec_from_file_location("cloudgen_bake_process", ROOT / "addon" / "bake_process.py")
-bp = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = bp  # dataclasses look their module up
-_spec.loader.exec_module(bp)
+
+
+def _load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses look their module up; bake_process finds cli_events
+    spec.loader.exec_module(module)
+    return module
+
+
+if "cli_events" not in sys.modules:  # bake_process's `import cli_events` outside the package
+    _load("cli_events", ROOT / "addon" / "cli_events.py")
+bp = _load("cloudgen_bake_process", ROOT / "addon" / "bake_process.py")
 
 pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built")
 CUMULUS = {"preset": "cumulus"}
