@@ -2,12 +2,16 @@
 # All the tests: set up (with the test-only packages), the native tests
 # (ctest), the same native tests under AddressSanitizer + UBSan in a second
 # build directory, the Python tests (pytest: module, CLI, round trips) and the
-# Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render, the add-on).
+# Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render, the add-on),
+# the distributed-bake tests (Dask) and the lint (scripts/lint.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 scripts/setup.sh --tests
 export PATH="$root/.venv/bin:$PATH"
+
+echo "== lint (ruff, clang-format, no pointers outside the repo)"
+scripts/lint.sh
 
 echo "== native tests (build/)"
 ctest --test-dir build --output-on-failure --parallel "$(nproc)"
@@ -24,3 +28,6 @@ ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:hal
 
 echo "== Python tests (module, CLI, round trips), Blender tests (bpy 4.5: OSL, parity, render, add-on, bake) and batch tests (Debian Blender 3.4)"
 CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/python tests/bench tests/blender tests/addon tests/addon_bake tests/batch
+
+echo "== distributed bakes (a Dask LocalCluster of 2 worker processes on loopback)"
+python -m pytest -q tests/distributed

@@ -146,8 +146,9 @@ def test_osl_matches_native(empty_scene, tmp_path, name):
     err = np.abs(osl.astype(np.float64) - nat)
     worst = int(err.argmax())
     rel = float(err.max() / span) if span > 0 else float(err.max())
+    rms_rel = float(np.sqrt((err ** 2).mean()) / (span or 1))
     FIGURES[name] = {"points": len(nat), "nonzero": int((nat > 0).sum()), "range": span,
-                     "max_abs": float(err.max()), "max_rel": rel, "rms_rel": float(np.sqrt((err ** 2).mean()) / (span or 1))}
+                     "max_abs": float(err.max()), "max_rel": rel, "rms_rel": rms_rel}
     print(f"\nparity {name}: {json.dumps(FIGURES[name])}")
     out = os.environ.get("CLOUDGEN_PARITY_REPORT")
     if out:
