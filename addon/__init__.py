@@ -12,14 +12,17 @@ bl_info = {
     "location": "View3D > Add > Volume > Cloud; View3D > Sidebar > Cloud",
     "description": "Procedural volumetric clouds: node groups, cloud types, live preview",
     "category": "Add Mesh",
+    # placeholder project address (no public home yet): replace when published
+    "doc_url": "https://example.org/cloudgen",
+    "tracker_url": "https://example.org/cloudgen/issues",
 }
 
-from . import bake, bake_panel, bridge, operators, preview, props, quality, ui  # noqa: E402
+from . import bake, bake_panel, bridge, operators, prefs, preview, props, quality, ui  # noqa: E402
 
 # Each module has `classes` (registered in order) and may have on_register /
 # on_unregister. Adding a module is one entry here.
 # quality and bake_panel after ui: their panels' parent is CLOUDGEN_PT_main
-_modules = (props, operators, preview, ui, quality, bake, bake_panel)
+_modules = (prefs, props, operators, preview, ui, quality, bake, bake_panel)
 
 _registered = []
 

@@ -23,7 +23,7 @@ and switches the cloud to baked (volume_object.py).
 """
 import bpy
 
-from . import bake_params, bake_process, bridge, camera_fit, cloud_object, quality, sequence, volume_object
+from . import bake_local, bake_params, bake_process, bridge, camera_fit, cloud_object, quality, sequence, volume_object
 
 # 4.5 warns about "//" in a FILE_PATH property unless it says it supports it;
 # older versions (3.4) do not know the option (checked at registration, not here)
@@ -70,45 +70,61 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
 
     # -- preparing
     def _prepare(self, context):
-        """(job, state) for the active cloud; ValueError/LookupError/RuntimeError say why not."""
+        """(job, state) for the active cloud; ValueError/LookupError/RuntimeError say why not.
+
+        Inside Blender (bake_local.py: cloudgen_native + Blender's OpenVDB module) unless
+        the preferences name a cloudgen CLI (bake_process.py), which Fit to Camera needs."""
         cloud = context.view_layer.objects.active
         if not cloud_object.is_cloud(cloud):
             raise ValueError("the active object is not a cloud")
+        scene = context.scene
+        fit = self._is_set("fit_camera", self.fit_camera, scene.cloudgen.bake_fit_camera)
         exe = bridge.cloudgen_executable()
-        if exe is None:
-            raise ValueError("the cloudgen command-line tool is missing (not in the add-on's bin/ "
-                             "nor on PATH): reinstall the add-on")
-        problem = bridge.cli_problem(exe)
-        if problem:
-            raise ValueError(problem)
+        if fit and exe is None:
+            raise ValueError("Fit to Camera needs the cloudgen command-line tool: set its path in "
+                             "the add-on's preferences, or turn Fit to Camera off")
+        if exe is not None:
+            problem = bridge.cli_problem(exe)
+            if problem:
+                raise ValueError(problem)
+        else:
+            native = bridge.require()
+            vdb = bridge.openvdb()
         given = self.filepath or bake_params.default_path(cloud)
         output = bake_params.resolve_output(given)
         bake_params.make_output_folder(output)
-        scene = context.scene
         params = bake_params.cloud_params(cloud)
-        resolution, extra = self._settings(scene)
         self._warnings = []
-        camera = None
-        if self._is_set("fit_camera", self.fit_camera, scene.cloudgen.bake_fit_camera):
-            camera = camera_fit.camera_json(scene, scene.camera, cloud, self._warnings)
-        frames, seq, per_file = None, None, [params]
+        frames, per_frame = None, None
         if self.sequence:
             first, last, fps = bake_params.scene_frames(scene)
             frames = (first, last)
             per_frame = sequence.frame_params(scene, cloud, first, last, bake_params.cloud_params)
-            seq = sequence.sequence_object(per_frame, fps)
-            per_file = [entry["params"] for entry in per_frame]
-            extra.append("--update")
-        job = bake_process.BakeJob(exe, params, resolution, output, extra=extra, sequence=seq, camera=camera)
+        per_file = [entry["params"] for entry in per_frame] if per_frame else [params]
         state = {"cloud": cloud, "relative": given.startswith("//"), "frames": frames,
                  "keys": bake_params.field_keys(per_file)}
+        if exe is None:
+            values = self._values(scene)
+            resolved = [bridge.resolve_params(p) for p in per_file]
+            if per_frame:
+                entries = [(native.frame_path(output, e["frame"]), r, e["frame"])
+                           for e, r in zip(per_frame, resolved)]
+            else:
+                entries = [(output, resolved[0], None)]
+            job = bake_local.LocalBake(native, vdb, entries, bake_local.Settings(
+                int(values["resolution"]), bool(values["lod"]), float(values["tolerance"]),
+                bool(values["half"])), update=bool(per_frame), version=str(native.version()["version"]))
+            return job, state
+        resolution, extra = self._settings(scene)
+        camera = camera_fit.camera_json(scene, scene.camera, cloud, self._warnings) if fit else None
+        seq = None
+        if per_frame:
+            seq = sequence.sequence_object(per_frame, bake_params.scene_frames(scene)[2])
+            extra.append("--update")
+        job = bake_process.BakeJob(exe, params, resolution, output, extra=extra, sequence=seq, camera=camera)
         return job, state
 
-    def _is_set(self, prop, value, fallback):
-        return value if self.properties.is_property_set(prop) else fallback
-
-    def _settings(self, scene):
-        """(resolution or None, CLI arguments) from the tier and the explicit overrides."""
+    def _tier(self, scene):
         name, tier = quality.current(scene)
         if self.quality:
             tiers = quality.tiers()
@@ -116,12 +132,28 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
                 raise ValueError(f"unknown quality tier {self.quality!r}; known: "
                                  f"{', '.join(tiers) or 'none'}")
             name, tier = (self.quality, tiers[self.quality]) if self.quality in tiers else (None, None)
+        return name, tier
+
+    def _overrides(self):
         overrides = {}
         for prop, key, conv in (("resolution", "resolution", int), ("no_lod", "lod", lambda v: not v),
                                 ("tolerance", "tolerance", float), ("half", "half", bool)):
             if self.properties.is_property_set(prop):
                 overrides[key] = conv(getattr(self, prop))
-        return quality.bake_arguments(name, (tier or {}).get("bake"), overrides)
+        return overrides
+
+    def _values(self, scene):
+        """{resolution, lod, tolerance, half} of an in-Blender bake (tier, then overrides)."""
+        _, tier = self._tier(scene)
+        return quality.bake_values((tier or {}).get("bake"), self._overrides())
+
+    def _is_set(self, prop, value, fallback):
+        return value if self.properties.is_property_set(prop) else fallback
+
+    def _settings(self, scene):
+        """(resolution or None, CLI arguments) from the tier and the explicit overrides."""
+        name, tier = self._tier(scene)
+        return quality.bake_arguments(name, (tier or {}).get("bake"), self._overrides())
 
     def _finish(self, context, result, state):
         for line in getattr(self, "_warnings", ()):

@@ -1,5 +1,6 @@
 """The add-on's only door to the native core (cloudgen_native) and to the
-files shipped inside the package (shaders, presets, the cloudgen CLI).
+files shipped inside the package (shaders, presets), and to Blender's OpenVDB
+Python module (openvdb()).
 
 The module is loaded from the package's own `lib/cloudgen_native.abi3.so`
 first, else by a plain `import cloudgen_native`. When neither works the
@@ -117,19 +118,50 @@ def shader_source(name: str) -> str:
 
 
 def cloudgen_executable() -> str | None:
-    """Path of the `cloudgen` CLI shipped in bin/ (executable), else the one on PATH, else None."""
-    import shutil  # noqa: PLC0415
+    """The `cloudgen` CLI the user chose in the add-on's preferences (an explicit path, for
+    Fit to Camera bakes and pipelines), or None: the add-on ships no executable and does
+    not look on PATH. Bake to VDB bakes inside Blender without it (bake_local.py)."""
+    from . import prefs  # noqa: PLC0415 - bpy-dependent; bridge itself has no bpy at import
 
-    path = PACKAGE_DIR / "bin" / "cloudgen"
-    if path.is_file():
-        if not os.access(path, os.X_OK):
-            try:
-                path.chmod(path.stat().st_mode | 0o111)  # zips may drop the mode
-            except OSError:
-                pass
-        if os.access(path, os.X_OK):
-            return str(path)
-    return shutil.which("cloudgen")
+    path = prefs.cli_path()
+    if path and os.path.isfile(path) and os.access(path, os.X_OK):
+        return path
+    return None
+
+
+_vdb = None
+
+
+def openvdb():
+    """Blender's OpenVDB Python module: `openvdb` (official builds and the bpy wheel 4.4+,
+    after bpy.utils.expose_bundled_modules where it exists), `pyopenvdb` (official 3.5-4.3,
+    and Debian's Blender with python3-openvdb); RuntimeError saying so when there is none."""
+    global _vdb
+    if _vdb is not None:
+        return _vdb
+    try:
+        import bpy  # noqa: PLC0415
+
+        expose = getattr(bpy.utils, "expose_bundled_modules", None)
+        if expose is not None:
+            expose()
+    except Exception:  # noqa: BLE001 - only a hint for the import below
+        pass
+    problems = []
+    for name in ("openvdb", "pyopenvdb"):
+        try:
+            mod = importlib.import_module(name)
+        except Exception as exc:  # noqa: BLE001
+            problems.append(f"{name}: {exc}")
+            continue
+        if hasattr(mod, "FloatGrid") and hasattr(mod, "write"):
+            _vdb = mod
+            return mod
+        problems.append(f"{name}: not OpenVDB's Python module")
+    raise RuntimeError("this Blender has no OpenVDB Python module (official Blender builds have it "
+                       "since 3.5; on Linux distributions install python3-openvdb), so Bake to VDB "
+                       "cannot write files here; bake with the cloudgen command-line tool instead "
+                       "(docs/farm.md) — " + "; ".join(problems))
 
 
 # ---------------------------------------------------------------- tiers, field key, the CLI

@@ -215,6 +215,15 @@ def bake_arguments(tier_name, tier_bake, overrides: dict) -> tuple:
     return int(eff["resolution"]), extra
 
 
+def bake_values(tier_bake, overrides: dict) -> dict:
+    """{resolution, lod, tolerance, half} a bake uses: Custom's defaults, the tier's
+    bake settings, then the explicit overrides (what `--quality NAME` + flags mean)."""
+    base = dict(DEFAULT_BAKE)
+    if tier_bake:
+        base.update({k: tier_bake[k] for k in DEFAULT_BAKE if k in tier_bake})
+    return dict(base, **overrides)
+
+
 def bake_summary(scene) -> str:
     """One line for the Bake panel: what a bake without overrides uses."""
     name, tier = current(scene)

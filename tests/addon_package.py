@@ -1,6 +1,6 @@
 """The packaged add-on the Blender tests load (build/addon/cloudgen, made by
 scripts/package_addon.py): rebuilt when a source it copies is newer — the
-add-on, the shaders, the native CLI and module from build/."""
+add-on, the shaders, LICENSE, the native module from build/."""
 import pathlib
 import subprocess
 import sys
@@ -13,7 +13,8 @@ PACKAGE = ADDON_PARENT / "cloudgen"
 def _sources():
     yield from (ROOT / "addon").iterdir()
     yield from (ROOT / "osl").glob("*")
-    yield ROOT / "build" / "bin" / "cloudgen"
+    yield ROOT / "LICENSE"
+    yield ROOT / "scripts" / "package_addon.py"
     yield from (ROOT / "build" / "python").glob("cloudgen_native*")
 
 

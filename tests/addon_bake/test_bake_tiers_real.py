@@ -21,11 +21,16 @@ CLI = ROOT / "build" / "bin" / "cloudgen"
 pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built")
 
 
-@pytest.fixture(autouse=True)
-def built_cli(bake_addon, monkeypatch):
+@pytest.fixture(autouse=True, params=["blender", "cli"])
+def built_cli(bake_addon, monkeypatch, request):
+    """Both bake paths: inside Blender (bake_local.py, no CLI configured) and the CLI."""
     from cloudgen import bridge
 
-    monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
+    if request.param == "cli":
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
+    else:
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: None)
+    return request.param
 
 
 def info(path):
@@ -64,10 +69,16 @@ def test_tier_bake_settings_reach_the_file(bake_addon, tmp_path):
     assert info(out24)[1]["cloudgen_resolution"] == "24"   # explicit resolution wins
 
 
-def test_fit_to_camera_bake(bake_addon, tmp_path):
+def test_fit_to_camera_bake(bake_addon, tmp_path, built_cli):
     import bpy
 
     sc, cloud = _scene(tmp_path)
+    if built_cli == "blender":  # no CLI configured: Fit to Camera says it needs one, bakes nothing
+        frame_cloud(sc, cloud)
+        with pytest.raises(RuntimeError, match="Fit to Camera needs the cloudgen command-line tool"):
+            bpy.ops.cloudgen.bake_vdb(fit_camera=True, resolution=64)
+        assert not glob.glob(str(tmp_path / "cloudgen" / "*.vdb")), "a file was written"
+        return
     frame_cloud(sc, cloud)
     before = set(glob.glob(os.path.join(tempfile.gettempdir(), "cloudgen-camera-*.json")))
     out = tmp_path / "cam.vdb"

@@ -22,11 +22,16 @@ RES = 16
 pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built")
 
 
-@pytest.fixture(autouse=True)
-def built_cli(bake_addon, monkeypatch):
+@pytest.fixture(autouse=True, params=["blender", "cli"])
+def built_cli(bake_addon, monkeypatch, request):
+    """Both bake paths: inside Blender (bake_local.py, no CLI configured) and the CLI."""
     from cloudgen import bridge
 
-    monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
+    if request.param == "cli":
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
+    else:
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: None)
+    return request.param
 
 
 def _socket(cloud, label):
