@@ -412,6 +412,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     emit("wrote",
          {{"path", job.path},
           {"frame", frame},
+          {"key", p.key},
           {"active_voxels", st.voxels_active},
           {"grid", {p.grid.n[0], p.grid.n[1], p.grid.n[2]}},
           {"voxel", p.grid.voxel},

@@ -51,7 +51,7 @@ def test_sequence_events_in_order(out_dir):
 def test_single_bake_frame_is_null(out_dir):
     r = run("bake", "--preset", "stratus", "--resolution", 8, "--json", "--output", out_dir / "s.vdb")
     ev = events(r)
-    assert ev.plan["files"] == [{"frame": None, "path": str(out_dir / "s.vdb")}]
+    assert ev.plan["files"] == [{"frame": None, "path": str(out_dir / "s.vdb"), "key": ev.written[0]["key"]}]
     assert ev.written[0]["frame"] is None and ev.plan["preset"] == "stratus"
 
 
