@@ -1,8 +1,10 @@
 """The Bake panel (sidebar tab Cloud): Bake Frame / Bake Frame Range, Fit to Camera,
-the tier's bake settings, the procedural/baked switch and the baked file."""
+the tier's bake settings, the procedural/baked switch, the baked file, and
+"Stale" when the cloud's parameters no longer give the field it was baked from
+(the bake record's field keys, checks.stale)."""
 import bpy
 
-from . import bake, cloud_object, quality, volume_object
+from . import bake, checks, cloud_object, quality, volume_object
 from .panel import SidebarPanel
 
 
@@ -35,7 +37,10 @@ class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
             op = sub.operator(bake.CLOUDGEN_OT_cloud_source.bl_idname, text=label, depress=source == key)
             op.source = key
         if baked is not None:
-            layout.label(text=f"{baked.name}: {baked.data.filepath}", icon="OUTLINER_DATA_VOLUME")
+            layout.label(text=baked.name, icon="OUTLINER_DATA_VOLUME")
+            layout.label(text=bpy.path.basename(baked.data.filepath) or "(no file)", icon="FILE")
+            if checks.stale(cloud, context.scene):
+                layout.label(text="Stale: parameters changed", icon="ERROR")
         if not bpy.data.filepath:
             layout.label(text="Save the .blend first (output is //cloudgen/)", icon="INFO")
 

@@ -129,12 +129,9 @@ def build_noise_group(name=NOISE_GROUP):
     params = group_parameters(NOISE_GROUP)
     ng = bpy.data.node_groups.new(name, "ShaderNodeTree")
     _interface(ng, params, outputs=("Noise",))
-    gi, go, tc = _io_nodes(ng)
-    noise = _script(ng, "cloud_noise")
-    if "Generated" in noise.inputs:
-        ng.links.new(tc.outputs["Generated"], noise.inputs["Generated"])
-        _link_params(ng, gi, noise, params)
-        ng.links.new(noise.outputs["Noise"], go.inputs["Noise"])
+    _io_nodes(ng)
+    _script(ng, "cloud_noise")
+    _wire(ng)
     ng["cloudgen_version"] = VERSION
     return ng
 
@@ -145,22 +142,83 @@ def build_main_group(shape_curve, name=MAIN_GROUP):
     extra = [(DISTORTION_NOISE, "NodeSocketFloat", "FACTOR", 0.0, 1.0, 0.5,
               "The distortion texture in [0, 1] (Cloud Noise's output, or any texture); 0.5 is neutral")]
     _interface(ng, params, extra_inputs=extra, outputs=("Density",))
-    gi, go, tc = _io_nodes(ng)
+    _io_nodes(ng)
     main = _script(ng, "cloud_main")
     height = _script(ng, "cloud_height")
     curve = blender_nodes.shape_curve_node(ng, shape_curve)
     curve.name = curve.label = CURVE_NODE
     height.location, curve.location, main.location = (-300, 300), (0, 300), (300, 0)
-    if "Generated" in main.inputs:
-        for node in (main, height):
-            ng.links.new(tc.outputs["Generated"], node.inputs["Generated"])
-            _link_params(ng, gi, node, params)
-        ng.links.new(gi.outputs[DISTORTION_NOISE], main.inputs["distortion_noise"])
-        ng.links.new(height.outputs["Height"], curve.inputs["Value"])
-        ng.links.new(curve.outputs["Value"], main.inputs["shape_gradient"])
-        ng.links.new(main.outputs["Density"], go.inputs["Density"])
+    _wire(ng)
     ng["cloudgen_version"] = VERSION
     return ng
+
+
+def _node_of_type(ng, idname):
+    return next((n for n in ng.nodes if n.bl_idname == idname), None)
+
+
+def _wire(ng):
+    """Link a group's compiled Script nodes (by name: cloud_noise, or cloud_main +
+    cloud_height + the Shape Gradient curve) to its Group Input/Output and Texture
+    Coordinate nodes. Nothing happens to a node without sockets (not compiled: a Blender
+    without OSL); repair_groups() calls this again once they are compiled."""
+    gi, go = _node_of_type(ng, "NodeGroupInput"), _node_of_type(ng, "NodeGroupOutput")
+    tc = _node_of_type(ng, "ShaderNodeTexCoord")
+    if gi is None or go is None or tc is None:
+        raise LookupError(f"node group {ng.name!r} lacks its Group Input/Output or Texture Coordinate node")
+    nodes = ng.nodes
+    if "cloud_noise" in nodes:
+        params = group_parameters(NOISE_GROUP)
+        noise = nodes["cloud_noise"]
+        if "Generated" in noise.inputs:
+            ng.links.new(tc.outputs["Generated"], noise.inputs["Generated"])
+            _link_params(ng, gi, noise, params)
+            ng.links.new(noise.outputs["Noise"], go.inputs["Noise"])
+    if "cloud_main" in nodes and "cloud_height" in nodes:
+        params = group_parameters(MAIN_GROUP)
+        main, height, curve = nodes["cloud_main"], nodes["cloud_height"], nodes.get(CURVE_NODE)
+        if "Generated" in main.inputs and "Generated" in height.inputs and curve is not None:
+            for node in (main, height):
+                ng.links.new(tc.outputs["Generated"], node.inputs["Generated"])
+                _link_params(ng, gi, node, params)
+            ng.links.new(gi.outputs[DISTORTION_NOISE], main.inputs["distortion_noise"])
+            ng.links.new(height.outputs["Height"], curve.inputs["Value"])
+            ng.links.new(curve.outputs["Value"], main.inputs["shape_gradient"])
+            ng.links.new(main.outputs["Density"], go.inputs["Density"])
+
+
+def uncompiled_groups() -> list:
+    """The add-on's node groups with a Script node that has no sockets (built in a Blender
+    without OSL, e.g. Debian's 3.4): they output 0 until compiled and linked."""
+    return [ng for ng in bpy.data.node_groups
+            if ng.get("cloudgen_version") is not None and any(
+                n.bl_idname == "ShaderNodeScript" and not n.outputs for n in ng.nodes)]
+
+
+def repair_groups() -> list:
+    """Compile the Script nodes of uncompiled_groups() and link them as a fresh build would
+    (only where this Blender has OSL). Returns the names of the groups repaired; a group that
+    fails is left as it was (RuntimeError names it)."""
+    if not blender_nodes.osl_available():
+        return []
+    from cycles import osl as cycles_osl  # noqa: PLC0415 - only with OSL
+
+    blender_nodes.ensure_oslquery_importable()
+    repaired = []
+    for ng in uncompiled_groups():
+        if ng.library is not None:
+            continue  # linked from another file: not ours to change
+        for node in ng.nodes:
+            if node.bl_idname == "ShaderNodeScript" and not node.outputs:
+                messages = []
+                with osl_temp.private_tempdir():
+                    ok = cycles_osl.update_script_node(
+                        node, lambda kind, msg, out=messages: out.append(f"{kind}: {msg}"))
+                if not ok:
+                    raise RuntimeError(f"{ng.name}: compiling {node.name} failed: {messages}")
+        _wire(ng)
+        repaired.append(ng.name)
+    return repaired
 
 
 def noise_group():

@@ -2,7 +2,7 @@
 All of them work in background mode (no window, area or region needed)."""
 import bpy
 
-from . import blender_nodes, bridge, cloud_object, nodes, preview, props
+from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props
 
 
 def osl_problem(context):
@@ -73,7 +73,8 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
         name="Procedural (OSL)", default=True,
         description="Render the clouds' OSL shaders (CPU); off for baked VDBs (any device)")
     denoise: bpy.props.BoolProperty(name="Denoise", default=True,
-                                    description="Denoise final renders")
+                                    description="Denoise final renders (left off where this "
+                                                "Blender has no denoiser)")
     volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=8, min=0, max=128,
                                           description="Multiple scattering makes clouds bright")
     step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.2, min=0.01, max=10.0,
@@ -87,7 +88,13 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
         if self.procedural:
             c.device = "CPU"
             c.shading_system = True
-        c.use_denoising = self.denoise
+        denoiser = checks.usable_denoiser(scene) if self.denoise else None
+        if denoiser is not None and c.denoiser != denoiser:
+            c.denoiser = denoiser
+        c.use_denoising = denoiser is not None
+        if self.denoise and denoiser is None:
+            self.report({"INFO"}, "Denoise left off: this Blender has no denoiser for this device "
+                                  "(built without OpenImageDenoise)")
         c.volume_bounces = self.volume_bounces
         c.max_bounces = max(c.max_bounces, self.volume_bounces)
         c.transparent_max_bounces = max(c.transparent_max_bounces, 16)

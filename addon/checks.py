@@ -1,0 +1,214 @@
+"""Said before a render, repaired on load (issue 12, findings 2, 3 and 6).
+
+render_pre: `problems(scene)` lists the clouds that will not render as the artist
+expects — a procedural cloud where OSL cannot run (Eevee, a build without OSL, a
+GPU other than OptiX), Script nodes never compiled, a baked cloud whose VDB is
+missing or whose bake is stale (its field key differs from the current parameters'),
+denoising on in a build without a denoiser. Each line goes to stderr
+(`cloudgen: warning: ...`; once per render, not per frame) and, with a window, to
+the status bar. In background mode a **missing VDB stops the render** with exit
+code 1 (a farm that lost the `cloudgen/` folder must not deliver empty skies),
+unless the environment says CLOUDGEN_ALLOW_MISSING_VDB=1.
+
+load_post: node groups built in a Blender without OSL (their Script nodes have no
+sockets, nothing is linked, the cloud renders empty) are compiled and linked when
+the file is opened in a Blender with OSL (nodes.repair_groups), and the preview
+is recomputed for the active cloud.
+"""
+import os
+import sys
+from types import SimpleNamespace
+
+import bpy
+
+from . import bake_params, cloud_object, nodes, preview, volume_object
+
+ALLOW_MISSING_ENV = "CLOUDGEN_ALLOW_MISSING_VDB"
+_last_printed = set()
+
+
+def _with_oidn() -> bool:
+    try:
+        import _cycles  # noqa: PLC0415 - Cycles' own module says what it was built with
+    except ImportError:
+        return False
+    return bool(getattr(_cycles, "with_openimagedenoise", False))
+
+
+def _optix_device(scene) -> bool:
+    prefs = bpy.context.preferences.addons.get("cycles")
+    kind = getattr(prefs.preferences, "compute_device_type", "NONE") if prefs else "NONE"
+    return scene.cycles.device == "GPU" and kind == "OPTIX"
+
+
+def denoiser_available(scene, denoiser=None) -> bool:
+    """The scene's Cycles denoiser (or `denoiser`) can run: OpenImageDenoise when this build
+    has it (Debian's 3.4 has not, and then defaults to OptiX), OptiX on an OptiX GPU."""
+    d = denoiser or getattr(scene.cycles, "denoiser", "OPENIMAGEDENOISE")
+    if d == "OPENIMAGEDENOISE":
+        return _with_oidn()
+    if d == "OPTIX":
+        return _optix_device(scene)
+    return False  # "": a build with no denoiser at all (Debian's 3.4: the enum is empty)
+
+
+def usable_denoiser(scene):
+    """The denoiser a render of this scene can use: the scene's when it runs, else
+    OpenImageDenoise when built in, else None (denoising must stay off)."""
+    if denoiser_available(scene):
+        return getattr(scene.cycles, "denoiser", "OPENIMAGEDENOISE")
+    return "OPENIMAGEDENOISE" if _with_oidn() else None
+
+
+def denoiser_missing(scene) -> bool:
+    """Cycles will refuse to render: denoising is on with a denoiser this build lacks."""
+    if scene.render.engine != "CYCLES" or not getattr(scene.cycles, "use_denoising", False):
+        return False
+    return not denoiser_available(scene)
+
+
+def _osl_problem(scene):
+    from . import operators  # noqa: PLC0415 - operators imports this module's users
+
+    return operators.osl_problem(SimpleNamespace(scene=scene, preferences=bpy.context.preferences))
+
+
+def _groups_of(cloud):
+    mat = cloud_object.cloud_material(cloud)
+    if mat is None or mat.node_tree is None:
+        return []
+    return [n.node_tree for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeGroup" and n.node_tree]
+
+
+def _baked_files(cloud, vdb_obj):
+    files = volume_object.bake_record(cloud).get("files") or []
+    return list(files) or [vdb_obj.data.filepath]
+
+
+def stale(cloud, scene) -> bool:
+    """The cloud's bake was made from other parameters than it has now (at this frame)."""
+    record = volume_object.bake_record(cloud)
+    keys = list(record.get("field_keys") or [])
+    if not keys or not all(keys):
+        return False
+    frames = list(record.get("frames") or [])
+    index = 0
+    if frames:
+        index = min(max(scene.frame_current - frames[0], 0), len(keys) - 1)
+    try:
+        now = bake_params.field_keys([bake_params.cloud_params(cloud)])[0]
+    except (LookupError, RuntimeError, ValueError, TypeError):
+        return False
+    return bool(now) and now != keys[index]
+
+
+def problems(scene):
+    """(missing, warnings): lines about the scene's clouds; `missing` are baked clouds
+    whose VDB file is not there (the render would show nothing where they are)."""
+    missing, warnings = [], []
+    if denoiser_missing(scene):
+        warnings.append("denoising is on but this Blender has no OpenImageDenoise: the render "
+                        "fails; turn Denoise off (Render Properties → Sampling)")
+    uncompiled = set(nodes.uncompiled_groups())
+    osl = None
+    for cloud in (o for o in scene.objects if cloud_object.is_cloud(o)):
+        source = cloud.get(volume_object.SOURCE_KEY, "PROCEDURAL")
+        if source == "BAKED":
+            vdb_obj = volume_object.baked_object(cloud)
+            if vdb_obj is None:
+                missing.append(f"{cloud.name} is set to render its bake, but it has no Volume object")
+                continue
+            if vdb_obj.hide_render:
+                continue
+            absent = [f for f in _baked_files(cloud, vdb_obj) if not os.path.isfile(bpy.path.abspath(f))]
+            if absent:
+                missing.append(f"{cloud.name}: the baked VDB {absent[0]} is missing"
+                               + (f" (and {len(absent) - 1} more)" if len(absent) > 1 else "")
+                               + "; copy the cloudgen/ folder next to the .blend")
+            elif stale(cloud, scene):
+                warnings.append(f"{cloud.name}: the bake is stale (the parameters changed since): "
+                                "Bake to VDB again")
+            continue
+        if cloud.hide_render:
+            continue
+        if osl is None:
+            osl = _osl_problem(scene) or ""
+        if osl:
+            warnings.append(f"{cloud.name} renders empty: {osl}; bake it (Cloud → Bake) to render it anywhere")
+        elif uncompiled & set(_groups_of(cloud)):
+            warnings.append(f"{cloud.name} renders empty: its shaders were never compiled (made in a "
+                            "Blender without OSL); reopen the file with the add-on enabled")
+    return missing, warnings
+
+
+def _status(text):
+    def show():
+        for window in bpy.context.window_manager.windows:
+            try:
+                window.workspace.status_text_set(text)
+            except (AttributeError, RuntimeError):
+                pass
+        return None
+    bpy.app.timers.register(show, first_interval=0.0)  # the main thread (render handlers may not be)
+
+
+@bpy.app.handlers.persistent
+def on_render_pre(scene, *_):
+    try:
+        missing, warnings = problems(scene)
+    except Exception as exc:  # noqa: BLE001 - a check must never stop a render by itself
+        print(f"cloudgen: warning: the pre-render check failed: {exc}", file=sys.stderr, flush=True)
+        return
+    lines = missing + warnings
+    key = frozenset(lines)
+    if lines and key != _last_printed:
+        for line in lines:
+            print(f"cloudgen: warning: {line}", file=sys.stderr, flush=True)
+    _last_printed.clear()
+    _last_printed.update(key)
+    if not bpy.app.background:
+        _status(("cloudgen: " + "; ".join(lines)) if lines else None)
+        return
+    if missing and os.environ.get(ALLOW_MISSING_ENV) != "1":
+        print(f"cloudgen: error: stopping the render: a baked VDB is missing (set {ALLOW_MISSING_ENV}=1 "
+              "to render without it)", file=sys.stderr, flush=True)
+        sys.stdout.flush()
+        os._exit(1)  # a handler's exception does not stop Blender's render loop or its exit code
+
+
+@bpy.app.handlers.persistent
+def on_load_post(*_):
+    _last_printed.clear()
+    try:
+        repaired = nodes.repair_groups()
+    except RuntimeError as exc:
+        print(f"cloudgen: warning: {exc}", file=sys.stderr, flush=True)
+        repaired = []
+    if repaired:
+        print(f"cloudgen: compiled and linked the shaders of {', '.join(repaired)} (made in a Blender "
+              "without OSL)", file=sys.stderr, flush=True)
+    try:
+        if cloud_object.is_cloud(bpy.context.view_layer.objects.active):
+            preview.refresh(bpy.context)
+    except (AttributeError, RuntimeError):
+        pass
+
+
+_HANDLERS = (("render_pre", on_render_pre), ("load_post", on_load_post))
+
+
+def on_register():
+    for name, fn in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if fn not in handlers:
+            handlers.append(fn)
+
+
+def on_unregister():
+    for name, fn in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        while fn in handlers:
+            handlers.remove(fn)
+
+
+classes = ()

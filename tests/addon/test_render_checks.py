@@ -1,0 +1,82 @@
+"""The pre-render check (addon/checks.py, render_pre) and the load_post repairs, in the
+4.5 wheel (issue 12, findings 2, 3, 5 and 6): a procedural cloud under Eevee or
+Workbench, a missing VDB, a stale bake, denoising with no denoiser each give one
+line; the handler prints them on stderr (`cloudgen: warning: ...`, once for the
+same set); a Render Settings with Denoise on never leaves a denoiser the build
+lacks switched on; reopening a file shows the preview without an edit. The real
+renders (3.4 without a denoiser, a farm without its VDB folder, a 3.4 file in 4.5)
+are in tests/batch/test_blender34.py."""
+import os
+
+import pytest
+
+
+@pytest.fixture
+def cloud(addon, scene, tmp_path):
+    import bpy
+
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "c.blend"))
+    assert bpy.ops.cloudgen.add_cloud(cloud_type="cumulus") == {"FINISHED"}
+    return bpy.context.view_layer.objects.active
+
+
+def _lines(addon, scene):
+    missing, warnings = addon.checks.problems(scene)
+    return missing, warnings
+
+
+def test_procedural_cloud_under_eevee_or_workbench(addon, scene, cloud):
+    assert _lines(addon, scene) == ([], []), "a procedural cloud in Cycles CPU + OSL is fine"
+    for engine, word in (("BLENDER_WORKBENCH", "Workbench"),
+                         ("BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in
+                          [e.identifier for e in scene.render.bl_rna.properties["engine"].enum_items]
+                          else "BLENDER_EEVEE", "Eevee")):
+        scene.render.engine = engine
+        missing, warnings = _lines(addon, scene)
+        assert not missing and len(warnings) == 1, warnings
+        assert f"{cloud.name} renders empty" in warnings[0] and word in warnings[0], warnings
+
+
+def test_missing_and_stale_bake(addon, scene, cloud, tmp_path, capfd):
+    import bpy
+
+    assert bpy.ops.cloudgen.bake_vdb(resolution=12) == {"FINISHED"}
+    assert _lines(addon, scene) == ([], [])
+    socket = next(n.inputs["Density"] for n in addon.cloud_object.cloud_nodes(cloud) if "Density" in n.inputs)
+    socket.default_value = socket.default_value * 0.5 + 0.1
+    missing, warnings = _lines(addon, scene)
+    assert not missing and any("stale" in w for w in warnings), warnings
+    os.remove(tmp_path / "cloudgen" / "Cumulus.vdb")
+    missing, warnings = _lines(addon, scene)
+    assert len(missing) == 1 and "Cumulus.vdb is missing" in missing[0], missing
+    capfd.readouterr()
+    os.environ[addon.checks.ALLOW_MISSING_ENV] = "1"   # the handler would end the process otherwise
+    try:
+        addon.checks.on_render_pre(scene)
+        addon.checks.on_render_pre(scene)   # the same lines again: not printed twice
+    finally:
+        del os.environ[addon.checks.ALLOW_MISSING_ENV]
+    err = capfd.readouterr().err
+    assert err.count("cloudgen: warning: Cumulus: the baked VDB") == 1, err
+
+
+def test_render_settings_never_enables_a_missing_denoiser(addon, scene, monkeypatch):
+    import bpy
+
+    bpy.ops.cloudgen.render_settings(denoise=True)
+    assert scene.cycles.use_denoising, "this wheel has OpenImageDenoise: denoise stays on"
+    monkeypatch.setattr(addon.checks, "_with_oidn", lambda: False)   # as in Debian's 3.4
+    bpy.ops.cloudgen.render_settings(denoise=True)
+    assert not scene.cycles.use_denoising
+    scene.cycles.use_denoising = True
+    missing, warnings = _lines(addon, scene)
+    assert any("no OpenImageDenoise" in w for w in warnings), warnings
+
+
+def test_reopened_file_shows_the_preview(addon, scene, cloud, tmp_path):
+    import bpy
+
+    bpy.ops.wm.save_mainfile()
+    addon.preview.state.values = None
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "c.blend"))
+    assert addon.preview.state.values is not None, addon.preview.state.error
