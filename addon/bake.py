@@ -35,7 +35,10 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
     range) with the cloudgen command-line tool, and render the baked volume instead"""
     bl_idname = "cloudgen.bake_vdb"
     bl_label = "Bake to VDB"
-    bl_options = {"REGISTER"}
+    # An undo step: Ctrl+Z after a bake removes the Volume object and the bake record and
+    # switches the cloud back to procedural; the file stays on disk (undo never deletes files;
+    # the next bake overwrites it, and checks.stale reads the file's own key).
+    bl_options = {"REGISTER", "UNDO"}
 
     filepath: bpy.props.StringProperty(
         name="Output", subtype="FILE_PATH", default="", **_RELATIVE_OK,

@@ -85,10 +85,36 @@ def _baked_files(cloud, vdb_obj):
     return list(files) or [vdb_obj.data.filepath]
 
 
+_file_keys = {}  # (path, mtime_ns, size) -> the file's field key ("" when unreadable)
+
+
+def file_field_key(path: str) -> str:
+    """The field key a baked file was made from (the first half of its cloudgen_bake_key);
+    read once per file version. "" when the file or Blender's OpenVDB module is missing."""
+    from . import bake_local, bridge  # noqa: PLC0415
+
+    try:
+        st = os.stat(path)
+    except OSError:
+        return ""
+    sig = (path, st.st_mtime_ns, st.st_size)
+    if sig not in _file_keys:
+        try:
+            key = bake_local.stored_key(bridge.openvdb(), path)
+        except RuntimeError:
+            key = ""
+        _file_keys[sig] = key.split("-")[0]
+    return _file_keys[sig]
+
+
 def stale(cloud, scene) -> bool:
-    """The cloud's bake was made from other parameters than it has now (at this frame)."""
+    """What the cloud renders baked is not what its parameters give now (at this frame): the
+    field key of the current parameters differs from the baked file's own key (read from the
+    file: after an undo the record may be older than the file), or from the bake record's
+    when the file cannot be read."""
     record = volume_object.bake_record(cloud)
     keys = list(record.get("field_keys") or [])
+    files = list(record.get("files") or [])
     if not keys or not all(keys):
         return False
     frames = list(record.get("frames") or [])
@@ -99,7 +125,8 @@ def stale(cloud, scene) -> bool:
         now = bake_params.field_keys([bake_params.cloud_params(cloud)])[0]
     except (LookupError, RuntimeError, ValueError, TypeError):
         return False
-    return bool(now) and now != keys[index]
+    on_disk = file_field_key(bpy.path.abspath(files[index])) if index < len(files) else ""
+    return bool(now) and now != (on_disk or keys[index])
 
 
 def problems(scene):
