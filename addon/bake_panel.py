@@ -5,7 +5,7 @@ the tier's bake settings, the procedural/baked switch, the baked file, and
 import bpy
 
 from . import bake, checks, cloud_object, quality, volume_object
-from .panel import SidebarPanel
+from .panel import SidebarPanel, wrapped_label
 
 
 class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
@@ -27,7 +27,7 @@ class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
         op.sequence = True
         row = layout.row()
         row.prop(context.scene.cloudgen, "bake_fit_camera")
-        layout.label(text=quality.bake_summary(context.scene), icon="SETTINGS")
+        wrapped_label(layout, quality.bake_summary(context.scene), "SETTINGS", context)
         source = cloud.get(volume_object.SOURCE_KEY, "PROCEDURAL")
         baked = volume_object.baked_object(cloud)
         row = layout.row(align=True)
@@ -42,7 +42,7 @@ class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
             if checks.stale(cloud, context.scene):
                 layout.label(text="Stale: parameters changed", icon="ERROR")
         if not bpy.data.filepath:
-            layout.label(text="Save the .blend first (output is //cloudgen/)", icon="INFO")
+            wrapped_label(layout, "Save the .blend first (output is //cloudgen/)", "INFO", context)
 
 
 classes = (CLOUDGEN_PT_bake,)

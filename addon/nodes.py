@@ -20,6 +20,7 @@ message naming the parameter.
 import bpy
 
 from . import blender_nodes, bridge, osl_temp, volume_material
+from .panel import tooltip
 
 MAIN_GROUP = "Cloud Main"
 NOISE_GROUP = "Cloud Noise"
@@ -46,7 +47,7 @@ def socket_kind(p: dict):
     if p["kind"] == "int":
         return "NodeSocketInt", "NONE"
     if p["kind"] == "vector":
-        return "NodeSocketVector", "NONE"
+        return "NodeSocketVector", "XYZ"   # fields labelled X, Y, Z
     if p["soft_min"] >= 0.0 and p["soft_max"] == 1.0:  # 0–1 sliders (Cloud Scale: 0.05–1)
         return "NodeSocketFloat", "FACTOR"
     return "NodeSocketFloat", "NONE"
@@ -59,7 +60,7 @@ def _new_socket(ng, name, in_out, socket_type, subtype="NONE", parent=None):
         if subtype != "NONE":
             sock.subtype = subtype
         return sock
-    idname = socket_type + ("Factor" if subtype == "FACTOR" else "")
+    idname = socket_type + {"FACTOR": "Factor", "XYZ": "XYZ"}.get(subtype, "")
     return (ng.inputs if in_out == "INPUT" else ng.outputs).new(idname, name)
 
 
@@ -70,7 +71,7 @@ def _declared_socket(ng, p, parent=None):
     sock.max_value = p["soft_max"]
     d = p["default"]
     sock.default_value = tuple(d) if isinstance(d, (list, tuple)) else d
-    sock.description = p["help"][:255]
+    sock.description = tooltip(p["help"])[:255]
     return sock
 
 
@@ -81,7 +82,7 @@ def _interface(ng, params, extra_inputs=(), outputs=()):
         _new_socket(ng, name, "OUTPUT", "NodeSocketFloat")
     for name, socket_type, subtype, lo, hi, default, help_text in extra_inputs:
         s = _new_socket(ng, name, "INPUT", socket_type, subtype)
-        s.min_value, s.max_value, s.default_value, s.description = lo, hi, default, help_text
+        s.min_value, s.max_value, s.default_value, s.description = lo, hi, default, tooltip(help_text)
     panels = {}
     for p in params:
         parent = None
@@ -289,6 +290,7 @@ def drive_box_inputs(material, obj):
     (plain AVERAGE drivers: no Python expression, so they run without auto-exec)."""
     noise = material.node_tree.nodes[NOISE_GROUP]
     for label, kind in (("Box Size", "SINGLE_PROP"), ("Object Location", "TRANSFORMS")):
+        noise.inputs[label].hide = True  # driven: not an input to edit in the node editor
         path = noise.inputs[label].path_from_id("default_value")
         for i in range(3):
             _driver(material.node_tree, path, i, kind, obj, data_path=f"dimensions[{i}]",

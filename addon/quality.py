@@ -18,7 +18,7 @@ offers only Custom and the panel says why.
 import bpy
 
 from . import bridge
-from .panel import SidebarPanel
+from .panel import SidebarPanel, tooltip, wrapped_label
 
 CUSTOM = "CUSTOM"
 PREVIEW_MIN, PREVIEW_MAX = 16, 512          # scene.cloudgen.preview_width limits
@@ -52,19 +52,33 @@ def _num(value, fmt):
         return None
 
 
+# How a tier's render looks next to the reference render (the benchmark's FLIP error,
+# docs/accuracy.md), in words: (upper FLIP bound, words), first match.
+LOOKS = ((0.03, "looks like the reference"), (0.06, "slight grain"),
+         (0.10, "visible grain, softer detail"), (float("inf"), "rough: for blocking out"))
+
+
+def look(flip) -> str:
+    for bound, words in LOOKS:
+        if float(flip) <= bound:
+            return words
+    return LOOKS[-1][1]
+
+
 def measured_lines(tier: dict) -> list:
-    """One line per measured scene: 'cumulus: render 3.2 s, bake 0.4 s, FLIP 0.031'."""
+    """One line per measured scene, time and look: 'cumulus: render 3.2 s, bake 0.40 s,
+    slight grain' (the look from the measured FLIP error, LOOKS)."""
     out = []
     for scene_name, m in (tier.get("measured") or {}).items():
         if not isinstance(m, dict):
             continue
         parts = []
-        for key, label, fmt, unit in (("render_s", "render", ".1f", " s"), ("bake_s", "bake", ".2f", " s"),
-                                      ("flip", "FLIP", ".3f", ""), ("rmse", "RMSE", ".4f", ""),
-                                      ("field_rms", "field RMS", ".3f", "")):
+        for key, label, fmt in (("render_s", "render", ".1f"), ("bake_s", "bake", ".2f")):
             text = _num(m.get(key), fmt) if key in m else None
             if text is not None and not (key == "bake_s" and float(m[key]) == 0.0):
-                parts.append(f"{label} {text}{unit}")
+                parts.append(f"{label} {text} s")
+        if _num(m.get("flip"), "g") is not None:
+            parts.append(look(m["flip"]))
         if parts:
             out.append(f"{scene_name}: " + ", ".join(parts))
     return out
@@ -91,8 +105,8 @@ def tier_tooltip(tier: dict) -> str:
                         + ("" if b.get("lod", True) else " full detail"))
     if "size" in tier.get("preview", {}):
         settings.append(f"preview {int(tier['preview']['size'])} px")
-    desc = str(tier.get("description", "")).strip()
-    head = (desc.rstrip(".") + ". ") if desc else ""
+    desc = tooltip(tier.get("description", ""))
+    head = (desc + ". ") if desc else ""
     return f"{head}{', '.join(settings)}. Measured: {measured_text(tier)}"
 
 
@@ -274,15 +288,15 @@ class CLOUDGEN_PT_quality(SidebarPanel, bpy.types.Panel):
             op.tier = name
             desc = str(tier.get("description", "")).strip()
             if desc:
-                layout.label(text=desc)
+                wrapped_label(layout, desc, context=context)
             lines = measured_lines(tier)
             for line in lines or ["not measured yet"]:
-                layout.label(text=line, icon="TIME")
+                wrapped_label(layout, line, "TIME", context)
             changed = drift(scene)
             if changed:
-                layout.label(text="Changed by hand: " + "; ".join(changed), icon="INFO")
+                wrapped_label(layout, "Changed by hand: " + "; ".join(changed), "INFO", context)
         elif tiers_error():
-            layout.label(text=tiers_error(), icon="ERROR")
+            wrapped_label(layout, tiers_error(), "ERROR", context)
 
 
 classes = (CLOUDGEN_OT_apply_quality, CLOUDGEN_PT_quality)

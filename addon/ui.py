@@ -5,7 +5,33 @@ render with the scene's settings."""
 import bpy
 
 from . import bridge, cloud_object, nodes, operators, preview
-from .panel import SidebarPanel
+from .panel import SidebarPanel, wrapped_label
+
+SHAPE_SOURCE = "Shape Source"
+SHAPE_SOURCE_ITEMS = (
+    ("EXPONENT", "Exponent", "The height profile comes from Shape Exponent"),
+    ("CURVE", "Gradient Curve", "The height profile comes from the Shape Gradient curve"),
+)
+
+
+def _shape_socket(obj):
+    if not cloud_object.is_cloud(obj):
+        return None
+    for node in cloud_object.cloud_nodes(obj):
+        if node is not None and SHAPE_SOURCE in node.inputs:
+            return node.inputs[SHAPE_SOURCE]
+    return None
+
+
+def _get_shape_source(obj):
+    sock = _shape_socket(obj)
+    return 1 if sock is not None and sock.default_value >= 1 else 0
+
+
+def _set_shape_source(obj, value):
+    sock = _shape_socket(obj)
+    if sock is not None:
+        sock.default_value = int(value)
 
 
 def status_lines(context):
@@ -21,7 +47,7 @@ def status_lines(context):
 
 def _draw_status(layout, context):
     for icon, text in status_lines(context):
-        layout.label(text=text, icon=icon)
+        wrapped_label(layout, text, icon, context)
 
 
 def _active_cloud(context):
@@ -42,17 +68,22 @@ class CLOUDGEN_PT_main(SidebarPanel, bpy.types.Panel):
         op.cloud_type = context.scene.cloudgen.cloud_type
         obj = _active_cloud(context)
         if obj is not None:
-            layout.label(text=f"{obj.name}: {obj[cloud_object.TYPE_KEY].replace('_', ' ')}",
-                         icon="OUTLINER_OB_VOLUME")
+            wrapped_label(layout, f"{obj.name}: {obj[cloud_object.TYPE_KEY].replace('_', ' ')}",
+                          "OUTLINER_OB_VOLUME", context)
         layout.operator(operators.CLOUDGEN_OT_render_settings.bl_idname, icon="SCENE")
 
 
-def _draw_sockets(layout, node, params):
+def _draw_sockets(layout, node, params, obj=None):
     for p in params:
         if p["label"] in node.inputs:
             sock = node.inputs[p["label"]]
             if sock.is_linked:
                 layout.label(text=f"{p['label']}: linked")
+            elif p["label"] == SHAPE_SOURCE and obj is not None:
+                layout.prop(obj, "cloudgen_shape_source", text=p["label"])
+            elif p["kind"] == "vector":
+                layout.label(text=f"{p['label']}:")
+                layout.prop(sock, "default_value", text="")
             else:
                 layout.prop(sock, "default_value", text=p["label"])
 
@@ -73,7 +104,7 @@ class _ParamPanel(SidebarPanel):
     def draw(self, context):
         main, noise = cloud_object.cloud_nodes(_active_cloud(context))
         node = main if nodes.GROUP_OF[self.group] == nodes.MAIN_GROUP else noise
-        _draw_sockets(self.layout.column(align=True), node, self.params())
+        _draw_sockets(self.layout.column(align=True), node, self.params(), _active_cloud(context))
 
 
 class CLOUDGEN_PT_cloud_main(_ParamPanel, bpy.types.Panel):
@@ -131,9 +162,20 @@ class CLOUDGEN_PT_preview(SidebarPanel, bpy.types.Panel):
         row.prop(s, "preview_width")
         row.operator(operators.CLOUDGEN_OT_refresh_preview.bl_idname, text="", icon="FILE_REFRESH")
         if preview.state.error:
-            layout.label(text=preview.state.error, icon="ERROR")
+            wrapped_label(layout, preview.state.error, "ERROR", context)
         elif preview.icon_id():
             layout.template_icon(icon_value=preview.icon_id(), scale=10.0)
+
+
+def on_register():
+    bpy.types.Object.cloudgen_shape_source = bpy.props.EnumProperty(
+        name=SHAPE_SOURCE, items=SHAPE_SOURCE_ITEMS, get=_get_shape_source, set=_set_shape_source,
+        description="Where the cloud's height profile comes from (the Shape Source socket of Cloud Main)")
+
+
+def on_unregister():
+    if hasattr(bpy.types.Object, "cloudgen_shape_source"):
+        del bpy.types.Object.cloudgen_shape_source
 
 
 classes = (CLOUDGEN_PT_main, CLOUDGEN_PT_cloud_main, CLOUDGEN_PT_cloud_noise, CLOUDGEN_PT_animation,
