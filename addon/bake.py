@@ -23,7 +23,19 @@ and switches the cloud to baked (volume_object.py).
 """
 import bpy
 
-from . import bake_local, bake_params, bake_process, bridge, camera_fit, cloud_object, quality, sequence, volume_object
+from . import (
+    bake_dask,
+    bake_local,
+    bake_params,
+    bake_process,
+    bridge,
+    camera_fit,
+    cloud_object,
+    prefs,
+    quality,
+    sequence,
+    volume_object,
+)
 
 # 4.5 warns about "//" in a FILE_PATH property unless it says it supports it;
 # older versions (3.4) do not know the option (checked at registration, not here)
@@ -106,6 +118,21 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
         per_file = [entry["params"] for entry in per_frame] if per_frame else [params]
         state = {"cloud": cloud, "relative": given.startswith("//"), "frames": frames,
                  "keys": bake_params.field_keys(per_file)}
+        scheduler, runner_python = prefs.dask()
+        if per_frame and scheduler:  # Bake Frame Range on the Dask cluster (docs/distributed.md)
+            if exe is None:
+                raise ValueError("a Dask bake runs the cloudgen command-line tool on every worker: set its "
+                                 "path in the add-on's preferences (or clear the Dask scheduler)")
+            if not runner_python:
+                raise ValueError("set Runner Python in the add-on's preferences (a Python with "
+                                 "cloudgen_dask installed) or clear the Dask scheduler")
+            resolution, extra = self._settings(scene)
+            native = bridge.require()
+            files = [native.frame_path(output, e["frame"]) for e in per_frame]
+            seq = sequence.sequence_object(per_frame, bake_params.scene_frames(scene)[2])
+            job = bake_dask.DaskBake(runner_python, scheduler, exe, seq, output, resolution, extra, files,
+                                     [e["frame"] for e in per_frame])
+            return job, state
         if exe is None:
             values = self._values(scene)
             resolved = [bridge.resolve_params(p) for p in per_file]
@@ -173,7 +200,8 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
             self.report({"ERROR"}, f"Bake to VDB: baked, but the Volume object failed: {exc}")
             return {"CANCELLED"}
         volume_object.store_record(cloud, result, files, frames, state["keys"])
-        text = sequence.summary(result, frames) if frames else result.message
+        text = result.message if getattr(result, "counts_override", None) or not frames \
+            else sequence.summary(result, frames)
         self.report({"INFO"}, f"Bake to VDB: {text} → {obj.name}")
         return {"FINISHED"}
 

@@ -106,6 +106,7 @@ def store_record(cloud, result, files, frames, keys):
         "field_keys": list(keys),
         "baked": len(result.paths), "copied": len(result.copied), "kept": len(result.kept),
     }
+    record.update(getattr(result, "counts_override", None) or {})  # a Dask bake: the runner's counts
     if frames:
         record["baked_frames"] = [frame_of[p] for p in result.paths if frame_of.get(p) is not None]
         record["copied_frames"] = [[frame_of[p], src] for p, src in result.copied
