@@ -1,25 +1,29 @@
 """Bake to VDB and Cloud Source, the two bake operators.
 
-Bake to VDB runs `cloudgen bake --json` on the active cloud (one frame, or the
-scene's frame range as a sequence), then creates or updates its Volume object
-and switches the cloud to baked (volume_object.py).
+Bake to VDB bakes the active cloud (one frame, or the scene's frame range as a
+sequence), then creates or updates its Volume object and switches the cloud to
+baked (volume_object.py). Where the bake runs:
 
-- The bake runs in a subprocess (bake_process.py): with a window it is modal
-  (progress bar, ESC or right-click cancels); in background mode (`blender -b`,
-  the bpy wheel: no window) it runs synchronously and prints its progress.
-- Before the first bake of a session the CLI's release and protocol are
-  compared with the loaded module's (bridge.cli_problem): a mismatch is an error.
-- The files are the ones the CLI's plan names (for a sequence the last run of
-  '#' in the output is the frame number, else _0001 goes before .vdb).
-- Cancel, a full disk or an unwritable path leave no partial file and are
-  reported with self.report({'ERROR'}, ...); success is reported as
-  `Bake to VDB: <what was done> → <cloud>_VDB` and recorded on the cloud
-  (volume_object.store_record: files, field keys, counts).
-- Settings: the scene's Cloud Quality tier (quality.py; `--quality NAME`), with
-  the operator's resolution / no_lod / tolerance / half passed only when set
-  explicitly; Fit to Camera (camera_fit.py, `--camera`); a frame range bakes
-  per-frame parameters with `--sequence ... --update` (sequence.py): only frames
-  whose field changed are baked.
+- inside Blender (the default): bake_local.py — densities from cloudgen_native in
+  a worker thread, written through Blender's own OpenVDB module
+  (bridge.openvdb(): `openvdb` / `pyopenvdb`); the file equals `cloudgen bake`'s;
+- the cloudgen CLI (bake_process.py, `cloudgen bake --json`) when the add-on's
+  preferences name one (prefs.py; Fit to Camera needs it); the CLI's release and
+  protocol are checked against the module's first (bridge.cli_problem);
+- a Dask cluster (bake_dask.py) for Bake Frame Range when the preferences hold a
+  scheduler address (and the CLI the workers run).
+
+With a window it is modal (progress bar, ESC or right-click cancels); in
+background mode (`blender -b`, the bpy wheel) it runs synchronously and prints
+its progress. Cancel, a full disk or an unwritable path leave no partial file and
+are reported with self.report({'ERROR'}, ...); success is reported as
+`Bake to VDB: <what was done> → <cloud>_VDB` and recorded on the cloud
+(volume_object.store_record: files, field keys, counts). Bake to VDB is an undo
+step: Ctrl+Z removes the Volume object and the record (the file stays on disk).
+Settings: the scene's Cloud Quality tier (quality.py), with the operator's
+resolution / no_lod / tolerance / half winning when set explicitly; a frame
+range bakes per-frame parameters (sequence.py): only frames whose field changed
+are baked, the others copied or kept.
 """
 import bpy
 
@@ -44,7 +48,7 @@ _RELATIVE_OK = {"options": {"PATH_SUPPORTS_BLEND_RELATIVE"}} if bpy.app.version 
 
 class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
     """Bake the active cloud to an OpenVDB file (or a sequence over the scene's frame
-    range) with the cloudgen command-line tool, and render the baked volume instead"""
+    range) and render the baked volume instead"""
     bl_idname = "cloudgen.bake_vdb"
     bl_label = "Bake to VDB"
     # An undo step: Ctrl+Z after a bake removes the Volume object and the bake record and
