@@ -80,7 +80,8 @@ def _draw_sockets(layout, node, params, obj=None):
             if sock.is_linked:
                 layout.label(text=f"{p['label']}: linked")
             elif p["label"] == SHAPE_SOURCE and obj is not None:
-                layout.prop(obj, "cloudgen_shape_source", text=p["label"])
+                layout.label(text=f"{p['label']}:")
+                layout.row(align=True).prop(obj, "cloudgen_shape_source", expand=True)
             elif p["kind"] == "vector":
                 layout.label(text=f"{p['label']}:")
                 layout.prop(sock, "default_value", text="")

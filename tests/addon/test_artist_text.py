@@ -60,7 +60,7 @@ def test_shape_source_is_a_named_choice(addon, scene):
     cloud.cloudgen_shape_source = "CURVE"
     assert main.inputs["Shape Source"].default_value == 1
     log = draw(addon.ui.CLOUDGEN_PT_cloud_main, bpy.context)
-    assert ("prop", "Shape Source") in log
+    assert ("prop", "cloudgen_shape_source") in log and ("label", "Shape Source:") in log
     items = [i.identifier for i in cloud.bl_rna.properties["cloudgen_shape_source"].enum_items]
     assert items == ["EXPONENT", "CURVE"], items
 
