@@ -188,3 +188,16 @@ def test_saved_in_34_renders_procedurally_in_45(baked, tmp_path):
             assert "compiled and linked the shaders" in proc.stderr, proc.stderr[-2000:]
     assert lit["1"] > 0.01, f"with the add-on the 3.4 cloud renders empty in 4.5: {lit}"
     assert lit["0"] < lit["1"], lit
+
+
+def test_procedural_cloud_render_warns_in_34(baked, env):
+    """F12 on a procedural cloud in 3.4 (no OSL): the image would be empty; the add-on's
+    pre-render check says why on stderr (the render itself still runs: exit 0)."""
+    out, _ = baked
+    _, e = env
+    cmd = [BLENDER, "-b", "--addons", "cloudgen", str(out / "procedural.blend"), "-E", "CYCLES",
+           "-o", "//render_proc/frame_####", "-f", "1"]
+    proc = subprocess.run(cmd, env=e, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "cloudgen: warning:" in proc.stderr and "renders empty" in proc.stderr \
+        and "Open Shading Language" in proc.stderr, proc.stderr[-2000:]
