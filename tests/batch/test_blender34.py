@@ -201,3 +201,15 @@ def test_procedural_cloud_render_warns_in_34(baked, env):
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "cloudgen: warning:" in proc.stderr and "renders empty" in proc.stderr \
         and "Open Shading Language" in proc.stderr, proc.stderr[-2000:]
+
+
+def test_add_bake_undo_50_times_in_34(env):
+    """The sequence of the reported crash, 50 times in Debian's 3.4 (tests/batch/undo_loop.py)."""
+    base, e = env
+    out = base / "undo"
+    out.mkdir(exist_ok=True)
+    proc = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+                           str(ROOT / "tests" / "batch" / "undo_loop.py"), "--", str(out), "50"],
+                          env=e, capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0 and "UNDO-LOOP-OK 50" in proc.stdout, \
+        (proc.returncode, proc.stdout[-2000:] + proc.stderr[-2000:])
