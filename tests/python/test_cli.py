@@ -90,13 +90,6 @@ def params_file(tmp_path):
     return make
 
 
-@pytest.fixture
-def out_dir(tmp_path):
-    d = tmp_path / "out"
-    d.mkdir()
-    return d
-
-
 # ------------------------------------------------------------------ usage ---
 
 def test_help_texts():

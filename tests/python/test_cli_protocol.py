@@ -10,13 +10,6 @@ import pytest
 from test_cli import cli_events, events, listing, run
 
 
-@pytest.fixture
-def out_dir(tmp_path):
-    d = tmp_path / "out"
-    d.mkdir()
-    return d
-
-
 def test_version_names_the_protocol_and_matches_the_module():
     human = run("--version")
     assert human.returncode == 0 and human.stdout.strip().endswith("(protocol 1)"), human.stdout
