@@ -20,8 +20,9 @@ log() { printf '[setup] %s\n' "$*"; }
 apt_packages=(g++ make pkg-config libopenvdb-dev libopenimageio-dev libboost-iostreams-dev
               nlohmann-json3-dev libgtest-dev)
 if ((want_tests)); then
-  # blender: Debian's 3.4 binary loads our VDBs in a test (it has no OSL); its Python needs numpy
-  apt_packages+=(blender python3-numpy)
+  # blender: Debian's 3.4 binary loads our VDBs in a test (it has no OSL); its Python needs numpy, and
+  # python3-openvdb (pyopenvdb) is how the add-on writes VDBs inside that Blender
+  apt_packages+=(blender python3-numpy python3-openvdb)
 fi
 missing=()
 for p in "${apt_packages[@]}"; do
