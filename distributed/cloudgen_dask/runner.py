@@ -55,10 +55,10 @@ def make_client(settings, threads_env: dict):
         return client, None
     try:
         import bokeh  # noqa: F401  (the dashboard needs it)
-        dashboard = ":0"
+        dashboard = "127.0.0.1:0"  # this machine only; a real cluster has its own dashboard
     except ImportError:
         dashboard = None
-    cluster = LocalCluster(n_workers=settings.workers, threads_per_worker=1, processes=True,
+    cluster = LocalCluster(n_workers=settings.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=dashboard, env=threads_env)
     return Client(cluster), cluster
 
