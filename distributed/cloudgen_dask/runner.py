@@ -132,6 +132,13 @@ def run(settings: Settings, client=None, on_unit=None) -> Summary:
         if stored_key(settings.cli, path) != key:
             _copy_atomically(source, path)
             summary.copied += 1
+    if settings.work_dir is None:
+        for leftover in work.glob("sequence_frame_*.json"):
+            leftover.unlink()
+        try:
+            work.rmdir()  # only when empty: bricks kept on purpose stay
+        except OSError:
+            pass
     summary.seconds = time.perf_counter() - t0
     return summary
 
