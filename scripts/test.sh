@@ -3,7 +3,8 @@
 # (ctest), the same native tests under AddressSanitizer + UBSan in a second
 # build directory, the Python tests (pytest: module, CLI, round trips) and the
 # Blender tests (pytest inside the bpy wheel: OSL shaders, parity, render, the add-on),
-# the distributed-bake tests (Dask) and the lint (scripts/lint.sh).
+# the distributed-bake tests (Dask), the lint (scripts/lint.sh) and the Blender
+# tests again in Blender 5.0 (scripts/test_blender5.sh): CI runs 3.4, 4.5 and 5.0.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -31,3 +32,6 @@ CLOUDGEN_REQUIRE_BLENDER=1 CLOUDGEN_REQUIRE_BPY=1 python -m pytest -q tests/pyth
 
 echo "== distributed bakes (a Dask LocalCluster of 2 worker processes on loopback)"
 python -m pytest -q tests/distributed
+
+echo "== Blender 5.0 (bpy 5.0 in .venv-blender5): OSL, parity, render, add-on, bake"
+scripts/test_blender5.sh

@@ -2,8 +2,7 @@
 # The second environment: Blender 5.0 as a Python module (bpy 5.0.x, Python 3.11)
 # in .venv-blender5, running the same Blender tests (OSL shaders, parity,
 # reference render against ref_blender5.png) and the add-on tests (node groups,
-# Add Cloud, preview, bake). CI does not run this; run it by
-# hand after changing the model or the shaders. Needs scripts/setup.sh first
+# Add Cloud, preview, bake). scripts/test.sh (CI) runs it last. Needs scripts/setup.sh first
 # (it uses build/python's cloudgen_native, the same abi3 module).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
