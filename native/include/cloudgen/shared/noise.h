@@ -164,6 +164,19 @@ CG_FN float cg_octave_weight(float octaves, int k) { return clamp(octaves - k, 0
 #define CG_FBM_GRADIENT 0  /* octave term: 4D gradient noise, in [-1, 1], mean 0 */
 #define CG_FBM_WORLEY 1    /* octave term: smoothstep(0, 1, Worley F1), in [0, 1], mean about 1/2 */
 
+/* The term of octave k (frequency freq = 2^k) at p: the batched kernel
+ * (native/src/simd/) calls it lane by lane, cg_fbm point by point. */
+CG_FN float cg_fbm_sample(int kind, CG_VEC3 p, float w, float freq, int k, int seed) {
+  float s = k * CG_OCTAVE_SHIFT;
+  int octave_seed = cg_mix32(seed ^ k);
+  float sample = 0;
+  if (kind == CG_FBM_WORLEY)
+    sample = smoothstep(0, 1, cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, octave_seed));
+  else
+    sample = cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s, octave_seed);
+  return sample;
+}
+
 /* fBm, lacunarity 2: octave k samples the term at 2^k p (+ a per-octave shift,
  * its own seed), weighted gain^k; the sum is normalised by the sum of the
  * weights of the `octaves` asked for (the last one fractional: it fades in),
@@ -185,16 +198,7 @@ CG_FN float cg_fbm(int kind, CG_VEC3 p, float w, float octaves, float lod_octave
     norm += amp * wd;
     float we = cg_octave_weight(n_eval, k);
     float term = mean;
-    if (we > 0) {
-      float s = k * CG_OCTAVE_SHIFT;
-      int octave_seed = cg_mix32(seed ^ k);
-      float sample = 0;
-      if (kind == CG_FBM_WORLEY)
-        sample = smoothstep(0, 1, cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, octave_seed));
-      else
-        sample = cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s, octave_seed);
-      term = mix(mean, sample, we / wd);
-    }
+    if (we > 0) term = mix(mean, cg_fbm_sample(kind, p, w, freq, k, seed), we / wd);
     sum += amp * wd * term;
     amp *= g;
     freq *= 2;
