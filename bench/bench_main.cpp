@@ -98,7 +98,8 @@ Options parse(int argc, char** argv) {
       } else if (a == "--help" || a == "-h") {
         std::puts("cloudgen_bench [--reps N] [--points N] [--only samples,bake,preview] [--resolutions 128,256]\n"
                   "               [--json FILE] [--quick]\n"
-                  "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley] [--config defaults|cumulus]");
+                  "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley|block_LEVEL]\n"
+                  "               [--config defaults|cumulus]");
         std::exit(0);
       } else usage_error("unknown argument " + a);
     } catch (const std::invalid_argument&) {

@@ -15,7 +15,8 @@ for o in "$@"; do
     echo "$bad"
     status=1
   else
-    echo "ok   $o: $(nm -C --defined-only "$o" | awk '$2 ~ /^[A-Zuvw]$/' | wc -l) external symbol(s), all in cg::simd_${level}"
+    count=$(nm -C --defined-only "$o" | awk '$2 ~ /^[A-Zuvw]$/' | wc -l)
+    echo "ok   $o: $count external symbol(s), all in cg::simd_${level}"
   fi
 done
 [ "$found" -ge 1 ] || { echo "FAIL no kernel_*.o among the arguments"; exit 1; }
