@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -54,12 +55,26 @@ std::string hex(float v) {
 struct Checker {
   std::int64_t points = 0, nonzero = 0, failures = 0;
 
-  // Compares every supported level with the scalar kernel on n points of `params`.
+  // Compares every supported level with the scalar kernel on n points of `params`: scattered points, and
+  // clusters of 128 (like a tile or a row: the kernel's Worley table path) in cubes of random size.
   void run(const std::string& name, const cg::Params& params, std::int64_t n, std::uint64_t seed) {
     const cg::Model m = cg::prepare(params);
     Rng rng(seed);
     std::vector<vec3> pts(static_cast<std::size_t>(n));
     for (std::int64_t i = 0; i < n; ++i) pts[std::size_t(i)] = point_for(m, rng, i);
+    compare(name + " (scattered)", params, m, pts, seed);
+    for (std::int64_t c = 0; c < n; c += 128) {
+      const vec3 centre = point_for(m, rng, c % 4);
+      const float size = float(std::pow(10.0, rng.uniform(-4, 0))) * m.box[0];
+      for (std::int64_t i = c; i < std::min(n, c + 128); ++i)
+        for (int a = 0; a < 3; ++a) pts[std::size_t(i)][a] = centre[a] + rng.uniformf(-0.5, 0.5) * size;
+    }
+    compare(name + " (clustered)", params, m, pts, seed);
+  }
+
+  void compare(const std::string& name, const cg::Params& params, const cg::Model& m, const std::vector<vec3>& pts,
+               std::uint64_t seed) {
+    const auto n = std::int64_t(pts.size());
     for (int with_lod = 0; with_lod < 2; ++with_lod) {
       const cg::Lod lod = with_lod ? cg::lod_for_footprint(m, 0.01f * m.box[0] * float(1 + seed % 7)) : cg::kNoLod;
       std::vector<float> want(pts.size());

@@ -117,6 +117,10 @@ CG_FN float cg_perlin4(float px, float py, float pz, float pw, int seed) {
 /* Feature point coordinate inside its cell, in [0.05, 0.95]. */
 CG_FN float cg_feature(int h) { return CG_FLOAT(0.5) + CG_WORLEY_JITTER * (cg_hash_unit(h) - CG_FLOAT(0.5)); }
 
+/* Hash salts of a cell's feature point y and z coordinates (x uses the cell hash itself). */
+#define CG_WORLEY_SALT_Y 1013904223
+#define CG_WORLEY_SALT_Z 1664525
+
 /* Distance beyond which Worley F1 is capped: a feature point outside the 27
  * cells around p lies at least one cell plus the margin (1 - jitter)/2 away. */
 #define CG_WORLEY_F1_CAP (1 + (1 - CG_WORLEY_JITTER) / 2)
@@ -148,8 +152,8 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
       for (int i = -1; i <= 1; i += 1) {
         int h = cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy);
         float ox = i + cg_feature(h) - dx;
-        float oy = j + cg_feature(cg_mix32(h ^ 1013904223)) - dy;
-        float oz = k + cg_feature(cg_mix32(h ^ 1664525)) - dz;
+        float oy = j + cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y)) - dy;
+        float oz = k + cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z)) - dz;
         best = min(best, ox * ox + oy * oy + oz * oz);
       }
     }
