@@ -56,7 +56,7 @@ struct Checker {
   std::int64_t points = 0, nonzero = 0, failures = 0;
 
   // Compares every supported level with the scalar kernel on n points of `params`: scattered points, and
-  // clusters of 128 (like a tile or a row: the kernel's Worley table path) in cubes of random size.
+  // clusters of 128 (like a tile or a row: the kernel's Worley table path) in cubes of 0.001-3 Worley cells.
   void run(const std::string& name, const cg::Params& params, std::int64_t n, std::uint64_t seed) {
     const cg::Model m = cg::prepare(params);
     Rng rng(seed);
@@ -65,7 +65,7 @@ struct Checker {
     compare(name + " (scattered)", params, m, pts, seed);
     for (std::int64_t c = 0; c < n; c += 128) {
       const vec3 centre = point_for(m, rng, c % 4);
-      const float size = float(std::pow(10.0, rng.uniform(-4, 0))) * m.box[0];
+      const float size = float(std::pow(10.0, rng.uniform(-3, 0.5))) / m.worley_frequency;  // 0.001-3 cells
       for (std::int64_t i = c; i < std::min(n, c + 128); ++i)
         for (int a = 0; a < 3; ++a) pts[std::size_t(i)][a] = centre[a] + rng.uniformf(-0.5, 0.5) * size;
     }
