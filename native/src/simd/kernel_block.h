@@ -30,17 +30,109 @@ namespace {
 constexpr int kChunk = 128;  // points per chunk (a multiple of the widest vector, 16 floats)
 constexpr int kPad = 16;     // noise loops run over a multiple of this many lanes
 
+// ---- Worley octave through a table of feature points -----------------------------------------------
+// cg_worley_f1 hashes the 27 cells around every point (81 cg_mix32 per point and octave). The points of
+// a tile or a row usually lie in 1-3 cells per axis at the Worley frequencies, so when the lanes' cells
+// span at most kSpan cells per axis, the feature points of those cells and their neighbours are hashed
+// once into a table and each lane reads its 27. The distances are the same expressions on the same
+// values, in the same order: bit for bit cg_worley_f1.
+constexpr int kSpan = 3;                  // widest cell range per axis the table serves
+constexpr int kSide = kSpan + 2;          // ... plus one neighbour on each side
+constexpr int kCells = kSide * kSide * kSide;
+
+struct WorleyTable {
+  float fx[kCells], fy[kCells], fz[kCells];
+};
+
+// The octave's lattice coordinates (as cg_worley_f1 computes them) of n lanes: the cell (before
+// masking) and the offset inside it.
+struct WorleyCells {
+  int cx[kChunk], cy[kChunk], cz[kChunk];
+  float dx[kChunk], dy[kChunk], dz[kChunk];
+};
+
+// smoothstep(0, 1, cg_worley_f1(...)) of n lanes at lattice points (x, y, z) * freq + s with octave seed
+// `seed` — the Worley term of cg_fbm_sample — into `out`. False (nothing written) when the cells span
+// too much for the table.
+bool worley_octave_table(int n, const float* x, const float* y, const float* z, float freq, float s, int seed,
+                         WorleyCells& C, float* out) {
+  int lo[3] = {1 << 30, 1 << 30, 1 << 30}, hi[3] = {-(1 << 30), -(1 << 30), -(1 << 30)};
+  for (int i = 0; i < n; ++i) {
+    const float wx = cg_wrap(x[i] * freq + s), wy = cg_wrap(y[i] * freq + s), wz = cg_wrap(z[i] * freq + s);
+    const float fx = floor(wx), fy = floor(wy), fz = floor(wz);
+    C.cx[i] = int(fx);
+    C.cy[i] = int(fy);
+    C.cz[i] = int(fz);
+    C.dx[i] = wx - fx;
+    C.dy[i] = wy - fy;
+    C.dz[i] = wz - fz;
+  }
+  for (int i = 0; i < n; ++i) {
+    lo[0] = C.cx[i] < lo[0] ? C.cx[i] : lo[0];
+    hi[0] = C.cx[i] > hi[0] ? C.cx[i] : hi[0];
+    lo[1] = C.cy[i] < lo[1] ? C.cy[i] : lo[1];
+    hi[1] = C.cy[i] > hi[1] ? C.cy[i] : hi[1];
+    lo[2] = C.cz[i] < lo[2] ? C.cz[i] : lo[2];
+    hi[2] = C.cz[i] > hi[2] ? C.cz[i] : hi[2];
+  }
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] - lo[a] >= kSpan) return false;
+  // Feature points of cells lo - 1 .. hi + 1 (the hash chain of cg_worley_f1: z, then y, then x): as
+  // many cells as the lanes need, so a chunk inside one cell hashes the 27 cells of one point.
+  const int sx = hi[0] - lo[0] + 3, sy = hi[1] - lo[1] + 3, sz = hi[2] - lo[2] + 3;
+  WorleyTable T;
+  for (int c = 0; c < sz; ++c) {
+    const int hz = cg_mix32(((lo[2] - 1 + c) & CG_PERIOD_MASK) ^ seed);
+    for (int b = 0; b < sy; ++b) {
+      const int hy = cg_mix32(((lo[1] - 1 + b) & CG_PERIOD_MASK) ^ hz);
+      for (int a = 0; a < sx; ++a) {
+        const int h = cg_mix32(((lo[0] - 1 + a) & CG_PERIOD_MASK) ^ hy);
+        const int t = (c * sy + b) * sx + a;
+        T.fx[t] = cg_feature(h);
+        T.fy[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y));
+        T.fz[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z));
+      }
+    }
+  }
+  int offset[27];  // table offset of neighbour (i, j, k), in cg_worley_f1's order
+  for (int k = -1, c = 0; k <= 1; k += 1)
+    for (int j = -1; j <= 1; j += 1)
+      for (int i = -1; i <= 1; i += 1) offset[c++] = (k * sy + j) * sx + i;
+#pragma omp simd
+  for (int q = 0; q < n; ++q) {
+    const int base = ((C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1)) * sx + (C.cx[q] - lo[0] + 1);
+    float best = 16;
+    for (int k = -1; k <= 1; k += 1)
+      for (int j = -1; j <= 1; j += 1)
+        for (int i = -1; i <= 1; i += 1) {
+          const int t = base + offset[((k + 1) * 3 + (j + 1)) * 3 + (i + 1)];
+          const float ox = i + T.fx[t] - C.dx[q];
+          const float oy = j + T.fy[t] - C.dy[q];
+          const float oz = k + T.fz[t] - C.dz[q];
+          best = min(best, ox * ox + oy * oy + oz * oz);
+        }
+    out[q] = smoothstep(0, 1, min(sqrt(best), CG_WORLEY_F1_CAP));
+  }
+  return true;
+}
+
+struct Scratch {
+  WorleyCells cells;
+  float sample[kChunk];
+};
+
 struct alignas(64) Lanes {
   float x[kChunk], y[kChunk], z[kChunk];  // the point, local frame
   float a[kChunk], b[kChunk], c[kChunk];  // the point in one noise's lattice units
   float shape[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], sum[kChunk];
   int index[kChunk];  // position of lane i in the caller's arrays
+  Scratch scratch;
 };
 
 // cg_fbm over n lanes at points (x, y, z) and 4th coordinate w: the same
 // bookkeeping, the octave loop outside, the lanes inside.
 void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, float w, float octaves,
-               float lod_octaves, float gain, int seed, float* sum, float* result) {
+               float lod_octaves, float gain, int seed, float* sum, float* result, Scratch& scratch) {
   const float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
   const float n_eval = min(n_decl, lod_octaves);
   const float g = clamp(gain, 0, CG_MAX_GAIN);
@@ -56,9 +148,16 @@ void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, 
     if (we > 0.0f) {
       const float t = we / wd;
       if (kind == CG_FBM_WORLEY) {
+        // cg_fbm_sample's Worley branch: shift s, octave seed, then the table when the cells allow it
+        if (worley_octave_table(n, x, y, z, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k), scratch.cells,
+                                scratch.sample)) {
 #pragma omp simd
-        for (int i = 0; i < n; ++i)
-          sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_WORLEY, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
+          for (int i = 0; i < n; ++i) sum[i] += aw * mix(mean, scratch.sample[i], t);
+        } else {
+#pragma omp simd
+          for (int i = 0; i < n; ++i)
+            sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_WORLEY, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
+        }
       } else {
 #pragma omp simd
         for (int i = 0; i < n; ++i)
@@ -120,13 +219,13 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
   if (cg_noise_uses_perlin(wi, wv, ni)) {
     to_lattice(L, padded, m.perlin_frequency, m.perlin_offset);
     fbm_lanes(CG_FBM_GRADIENT, padded, L.a, L.b, L.c, m.w4, m.noise_detail, lod.perlin_octaves, m.noise_whisp, m.seed,
-              L.sum, L.perlin);
+              L.sum, L.perlin, L.scratch);
   }
   to_lattice(L, padded, m.worley_frequency, m.worley_offset);
   for (int i = 0; i < padded; ++i) L.worley[i] = 0.5f;
   if (cg_noise_uses_worley(wi, wv))
     fbm_lanes(CG_FBM_WORLEY, padded, L.a, L.b, L.c, 0.0f, CG_WORLEY_OCTAVES, lod.worley_octaves, m.worley_clump,
-              m.seed ^ CG_SEED_SALT_WORLEY, L.sum, L.worley);
+              m.seed ^ CG_SEED_SALT_WORLEY, L.sum, L.worley, L.scratch);
   for (int i = 0; i < padded; ++i) L.sine[i] = 0.5f;
   if (cg_noise_uses_sine(wi, wv))
     for (int i = 0; i < n; ++i) L.sine[i] = cg_wave_sine(L.a[i], L.perlin[i]);
