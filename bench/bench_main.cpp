@@ -2,14 +2,17 @@
 //
 //   cloudgen_bench [--reps N] [--points N] [--only samples,bake,preview]
 //                  [--resolutions 128,256] [--json FILE] [--quick]
-//   cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley] [--config defaults|cumulus]
+//   cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley|block_LEVEL] [--config defaults|cumulus]
 //
 // The first form times everything (best and median of N repetitions after one
 // warm-up) and writes a human table to stdout and the raw numbers as JSON.
 // The second evaluates exactly K samples on a fixed set of points and exits:
 // bench/run.sh runs it under callgrind with K and 2K, so the difference of the
 // two instruction counts divided by K is the cost of one sample, start-up
-// (parsing presets, making points) cancelling out.
+// (parsing presets, making points) cancelling out. block_LEVEL (LEVEL: scalar,
+// baseline, avx2, avx512) is the batched kernel cg::density_block at that
+// instruction-set level, in batches of 500 points (valgrind has no AVX-512).
+// Bakes and previews use the level chosen at start-up: CLOUDGEN_SIMD forces one.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_util.h"
+#include "cloudgen/density_block.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
@@ -94,15 +98,18 @@ Options parse(int argc, char** argv) {
       } else if (a == "--help" || a == "-h") {
         std::puts("cloudgen_bench [--reps N] [--points N] [--only samples,bake,preview] [--resolutions 128,256]\n"
                   "               [--json FILE] [--quick]\n"
-                  "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley] [--config defaults|cumulus]");
+                  "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley|block_LEVEL]\n"
+                  "               [--config defaults|cumulus]");
         std::exit(0);
       } else usage_error("unknown argument " + a);
     } catch (const std::invalid_argument&) {
       usage_error("bad number after " + a);
     }
   }
-  if (o.kernel != "full" && o.kernel != "noise" && o.kernel != "perlin" && o.kernel != "worley")
-    usage_error("--kernel must be full, noise, perlin or worley");
+  cg::SimdLevel unused;
+  if (o.kernel != "full" && o.kernel != "noise" && o.kernel != "perlin" && o.kernel != "worley" &&
+      !(o.kernel.rfind("block_", 0) == 0 && cg::parse_simd_level(o.kernel.c_str() + 6, unused)))
+    usage_error("--kernel must be full, noise, perlin, worley or block_LEVEL (scalar, baseline, avx2, avx512)");
   if (o.config != "defaults" && o.config != "cumulus") usage_error("--config must be defaults or cumulus");
   return o;
 }
@@ -123,7 +130,7 @@ std::string now_utc() {
 
 // ---------------------------------------------------------------- samples ---
 
-enum class Kernel { Full, Noise, Perlin, Worley };
+enum class Kernel { Full, Noise, Perlin, Worley, Block };
 
 const char* kernel_name(Kernel k) {
   switch (k) {
@@ -131,6 +138,7 @@ const char* kernel_name(Kernel k) {
     case Kernel::Noise: return "noise_at";
     case Kernel::Perlin: return "perlin_fbm";
     case Kernel::Worley: return "worley_fbm";
+    case Kernel::Block: return "density_block";
   }
   return "?";
 }
@@ -154,7 +162,9 @@ float sum_over(const std::vector<cg::vec3>& pts, std::size_t lo, std::size_t hi,
 
 // Evaluates the kernel on every point with `threads` workers (chunks of 4096
 // points handed out by cg::parallel_for); returns the sum so nothing is elided.
-float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, int threads) {
+// Kernel::Block: cg::density_block at `level` on each chunk of 4096 points.
+float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, int threads,
+               cg::SimdLevel level = cg::SimdLevel::Scalar) {
   constexpr std::int64_t kChunk = 4096;
   const std::int64_t chunks = (std::int64_t(pts.size()) + kChunk - 1) / kChunk;
   struct alignas(64) Partial { float sum = 0.0f; };
@@ -167,6 +177,12 @@ float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, i
       case Kernel::Noise: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return cg::noise_at(m, p); }); break;
       case Kernel::Perlin: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return perlin_part(m, p); }); break;
       case Kernel::Worley: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return worley_part(m, p); }); break;
+      case Kernel::Block: {
+        float out[kChunk];
+        cg::density_block(level, m, &pts[lo], hi - lo, cg::kNoLod, out);
+        for (std::size_t i = 0; i < hi - lo; ++i) s += out[i];
+        break;
+      }
     }
     partial[worker].sum += s;
   });
@@ -213,6 +229,26 @@ json bench_samples(const Options& o) {
         if (c.pts == &noisy) row["box_fraction_provably_empty"] = rejected;
         rows.push_back(row);
       }
+    // The batched kernel at every level this CPU runs (the same points as "density (noise needed)").
+    for (int l = 0; l < cg::kSimdLevelCount; ++l) {
+      const cg::SimdLevel level = cg::SimdLevel(l);
+      if (!cg::simd_level_supported(level)) continue;
+      for (int threads : {1, 2}) {
+        const cgbench::Timing t = cgbench::time_reps(
+            o.reps, [&] { cgbench::sink(evaluate(m, noisy, Kernel::Block, threads, level)); });
+        const double n = double(noisy.size());
+        const std::string name = std::string("density_block ") + cg::simd_level_name(level);
+        std::printf("%-9s %-22s %3d %12s %12s %10.0f\n", config, name.c_str(), threads, si(n / t.best()).c_str(),
+                    si(n / t.median()).c_str(), 1e9 * t.best() / n);
+        json row{{"config", config}, {"kernel", "density_block"}, {"level", cg::simd_level_name(level)},
+                 {"points", "noise_needed"}, {"threads", threads}, {"count", noisy.size()}};
+        row.update(timing_json(t));
+        row["samples_per_s_best"] = n / t.best();
+        row["samples_per_s_median"] = n / t.median();
+        row["ns_per_sample_best"] = 1e9 * t.best() / n;
+        rows.push_back(row);
+      }
+    }
     std::printf("%-9s (%.1f %% of uniform box points are provably empty by the shape: no noise there)\n", config,
                 100.0 * rejected);
   }
@@ -330,7 +366,21 @@ int run_callgrind_mode(const Options& o) {
   };
   if (o.kernel == "full") run([&](cg::vec3 p) { return cg::density(m, p); });
   else if (o.kernel == "noise") run([&](cg::vec3 p) { return cg::noise_at(m, p); });
-  else if (o.kernel == "perlin") run([&](cg::vec3 p) { return perlin_part(m, p); });
+  else if (o.kernel.rfind("block_", 0) == 0) {
+    cg::SimdLevel level = cg::SimdLevel::Scalar;
+    cg::parse_simd_level(o.kernel.c_str() + 6, level);
+    if (!cg::simd_level_supported(level)) {
+      std::fprintf(stderr, "cloudgen_bench: level %s is not supported here\n", cg::simd_level_name(level));
+      return 1;
+    }
+    constexpr long long kBatch = 500;  // divides the 10000 points: a batch never wraps around
+    float out[kBatch];
+    for (long long i = 0; i < o.callgrind_samples; i += kBatch) {
+      const long long n = std::min(kBatch, o.callgrind_samples - i);
+      cg::density_block(level, m, &pts[std::size_t(i % (long long)pts.size())], std::size_t(n), cg::kNoLod, out);
+      for (long long j = 0; j < n; ++j) s += out[j];
+    }
+  } else if (o.kernel == "perlin") run([&](cg::vec3 p) { return perlin_part(m, p); });
   else run([&](cg::vec3 p) { return worley_part(m, p); });
   cgbench::sink(s);
   std::printf("%s %s: %lld samples, sum %g\n", o.config.c_str(), o.kernel.c_str(), o.callgrind_samples, double(s));
@@ -351,13 +401,15 @@ int main(int argc, char** argv) {
 #endif
             {"flags", CLOUDGEN_BENCH_FLAGS},
             {"core_version", cg::version()},
+            {"simd_level", cg::simd_level_name(cg::simd_level())},
             {"hardware_threads", std::thread::hardware_concurrency()},
             {"reps", o.reps},
             {"points", o.points},
             {"bake_reps_256_and_up", std::min(o.reps, 5)},
             {"load_average_start", cgbench::load_average()}};
-  std::printf("cloudgen_bench %s — %s build, %s, best/median of %d runs, load average %.2f\n", cg::version(),
-              CLOUDGEN_BENCH_BUILD_TYPE, CLOUDGEN_BENCH_COMPILER, o.reps, cgbench::load_average());
+  std::printf("cloudgen_bench %s — %s build, %s, best/median of %d runs, load average %.2f, kernel level %s\n",
+              cg::version(), CLOUDGEN_BENCH_BUILD_TYPE, CLOUDGEN_BENCH_COMPILER, o.reps, cgbench::load_average(),
+              cg::simd_level_name(cg::simd_level()));
   std::string bt = CLOUDGEN_BENCH_BUILD_TYPE;
   if (bt != "Release" && bt != "RelWithDebInfo")
     std::fprintf(stderr, "warning: %s build: these numbers do not describe the optimised core\n", bt.c_str());

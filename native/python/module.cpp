@@ -11,6 +11,7 @@
 #include <string>
 
 #include "arrays.h"
+#include "cloudgen/density_block.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/field_key.h"
@@ -153,11 +154,13 @@ PyObject* py_density(PyObject*, PyObject* args, PyObject* kwargs) {
       const cg::Lod lod = footprint > 0.0f ? cg::lod_for_footprint(model, footprint) : cg::kNoLod;
       const std::int64_t tasks = (n + kPointsPerTask - 1) / kPointsPerTask;
       cg::parallel_for(tasks, tasks > 1 ? cg::resolve_threads(threads) : 1, [&](std::int64_t task, int) {
-        const std::int64_t end = std::min(n, (task + 1) * kPointsPerTask);
-        for (std::int64_t i = task * kPointsPerTask; i < end; ++i) {
-          const float* p = &points[static_cast<std::size_t>(i) * 3];
-          result[i] = cg::density(model, cg::vec3{p[0], p[1], p[2]}, lod);
+        const std::int64_t begin = task * kPointsPerTask, end = std::min(n, begin + kPointsPerTask);
+        std::vector<cg::vec3> batch(static_cast<std::size_t>(end - begin));  // evaluated in one batch
+        for (std::size_t i = 0; i < batch.size(); ++i) {
+          const float* p = &points[(static_cast<std::size_t>(begin) + i) * 3];
+          batch[i] = cg::vec3{p[0], p[1], p[2]};
         }
+        cg::density_block(model, batch.data(), batch.size(), lod, result + begin);
       });
     });
     return out.array.release();

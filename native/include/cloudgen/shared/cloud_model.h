@@ -156,6 +156,24 @@ CG_FN float cg_noise_time(float time, float evolution) {
 
 /* ----------------------------------------------------------- cloud noise --- */
 
+/* Which parts of Cloud Noise the (clamped) weights need: uniform over a
+ * cloud, so the batched kernel (native/src/simd/) tests them once per block. */
+CG_FN int cg_noise_uses_perlin(float wi, float wv, float ni) { return ni > 0 || (wi > 0 && wv > 0); }
+CG_FN int cg_noise_uses_worley(float wi, float wv) { return wi > 0 && wv < 1; }
+CG_FN int cg_noise_uses_sine(float wi, float wv) { return wi > 0 && wv > 0; }
+
+/* The sine texture Sw at Worley x coordinate xw, phase-warped by P. */
+CG_FN float cg_wave_sine(float xw, float p) {
+  return CG_FLOAT(0.5) + CG_FLOAT(0.5) * sin(CG_TWO_PI * (CG_WAVE_FREQUENCY * xw + CG_WAVE_WARP * p));
+}
+
+/* N from its parts (P, W, Sw; 1/2 stands for a part not needed) and the clamped weights. */
+CG_FN float cg_cloud_noise_combine(float p, float worley, float sine, float wi, float wv, float ni) {
+  float billow = CG_FLOAT(0.5);
+  if (wi > 0) billow = mix(CG_FLOAT(0.5), mix(worley, sine, wv), wi);
+  return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * p, ni), 0, 1);
+}
+
 /* Cloud Noise (thesis 3.3): the distortion texture N in [0, 1], neutral 1/2.
  *   P  = gradient-noise fBm in [-1,1] (Noise Detail octaves, gain Noise Whisp)
  *   W  = Worley-billow fBm in [0,1] (2 octaves, gain Worley Clump)
@@ -171,20 +189,14 @@ CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influe
   float wv = clamp(wave, 0, 1);
   float ni = clamp(noise_influence, 0, 1);
   float p = 0;
-  if (ni > 0 || (wi > 0 && wv > 0))
+  if (cg_noise_uses_perlin(wi, wv, ni))
     p = cg_perlin_fbm(pp, w4, noise_detail, lod_perlin_octaves, noise_whisp, seed);
-  float billow = CG_FLOAT(0.5);
-  if (wi > 0) {
-    float worley = CG_FLOAT(0.5);
-    if (wv < 1)
-      worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump,
-                             seed ^ CG_SEED_SALT_WORLEY);
-    float sine = CG_FLOAT(0.5);
-    if (wv > 0)
-      sine = CG_FLOAT(0.5) + CG_FLOAT(0.5) * sin(CG_TWO_PI * (CG_WAVE_FREQUENCY * pw[0] + CG_WAVE_WARP * p));
-    billow = mix(CG_FLOAT(0.5), mix(worley, sine, wv), wi);
-  }
-  return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * p, ni), 0, 1);
+  float worley = CG_FLOAT(0.5);
+  if (cg_noise_uses_worley(wi, wv))
+    worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump, seed ^ CG_SEED_SALT_WORLEY);
+  float sine = CG_FLOAT(0.5);
+  if (cg_noise_uses_sine(wi, wv)) sine = cg_wave_sine(pw[0], p);
+  return cg_cloud_noise_combine(p, worley, sine, wi, wv, ni);
 }
 
 CG_NAMESPACE_END

@@ -4,7 +4,7 @@
  * compiler and by oslc. It is written in the subset both accept; this file maps
  * the few places where the two languages differ:
  *
- *   CG_FN         function qualifier: `inline` in C++, nothing in OSL
+ *   CG_FN         function qualifier: `inline` in C++ (or `static inline`, see below), nothing in OSL
  *   CG_VEC3       3-vector: cg::vec3 in C++, `vector` in OSL
  *   CG_NAMESPACE_BEGIN/END  shared code lives in namespace cg in C++
  *   CG_IN_ARRAY   element type of a read-only float array parameter
@@ -46,7 +46,12 @@ int cg_shr(int a, int n) { return (a >> n) & ((1 << (32 - n)) - 1); }
 #include <cmath>
 #include <cstdint>
 
+/* A kernel object file compiled for one instruction set (native/src/simd/) defines
+ * CG_FN as `static inline` before including: its copies then have internal
+ * linkage and the linker can never mix them with the baseline ones. */
+#ifndef CG_FN
 #define CG_FN inline
+#endif
 #define CG_VEC3 ::cg::vec3
 #define CG_FLOAT(x) x##f
 #define CG_OUT(T) T&
@@ -68,30 +73,30 @@ constexpr vec3 operator-(vec3 a, vec3 b) { return {a[0] - b[0], a[1] - b[1], a[2
 constexpr vec3 operator*(vec3 a, float s) { return {a[0] * s, a[1] * s, a[2] * s}; }
 constexpr vec3 operator*(float s, vec3 a) { return a * s; }
 
-inline int cg_imul(int a, int b) {
+CG_FN int cg_imul(int a, int b) {
   return static_cast<int>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
 }
-inline int cg_shr(int a, int n) {
+CG_FN int cg_shr(int a, int n) {
   return static_cast<int>(static_cast<std::uint32_t>(a) >> n);
 }
 
 /* OSL-compatible float math. Unqualified calls in namespace cg find these. */
-inline float floor(float x) { return std::floor(x); }
-inline float sin(float x) { return std::sin(x); }
-inline float fabs(float x) { return std::fabs(x); }
-inline float log2(float x) { return x > 0 ? std::log2(x) : 0.0f; }
-inline float sqrt(float x) { return x > 0 ? std::sqrt(x) : 0.0f; }
-inline float min(float a, float b) { return a < b ? a : b; }
-inline float max(float a, float b) { return a > b ? a : b; }
-inline float clamp(float x, float lo, float hi) { return min(max(x, lo), hi); }
-inline float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
-inline float smoothstep(float e0, float e1, float x) {
+CG_FN float floor(float x) { return std::floor(x); }
+CG_FN float sin(float x) { return std::sin(x); }
+CG_FN float fabs(float x) { return std::fabs(x); }
+CG_FN float log2(float x) { return x > 0 ? std::log2(x) : 0.0f; }
+CG_FN float sqrt(float x) { return x > 0 ? std::sqrt(x) : 0.0f; }
+CG_FN float min(float a, float b) { return a < b ? a : b; }
+CG_FN float max(float a, float b) { return a > b ? a : b; }
+CG_FN float clamp(float x, float lo, float hi) { return min(max(x, lo), hi); }
+CG_FN float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
+CG_FN float smoothstep(float e0, float e1, float x) {
   if (x < e0) return 0.0f;
   if (x >= e1) return 1.0f;
   const float t = (x - e0) / (e1 - e0);
   return t * t * (3.0f - 2.0f * t);
 }
-inline float pow(float b, float e) {
+CG_FN float pow(float b, float e) {
   if (b < 0.0f && std::floor(e) != e) return 0.0f;
   const float r = std::pow(b, e);
   return std::isfinite(r) ? r : 0.0f;

@@ -117,6 +117,10 @@ CG_FN float cg_perlin4(float px, float py, float pz, float pw, int seed) {
 /* Feature point coordinate inside its cell, in [0.05, 0.95]. */
 CG_FN float cg_feature(int h) { return CG_FLOAT(0.5) + CG_WORLEY_JITTER * (cg_hash_unit(h) - CG_FLOAT(0.5)); }
 
+/* Hash salts of a cell's feature point y and z coordinates (x uses the cell hash itself). */
+#define CG_WORLEY_SALT_Y 1013904223
+#define CG_WORLEY_SALT_Z 1664525
+
 /* Distance beyond which Worley F1 is capped: a feature point outside the 27
  * cells around p lies at least one cell plus the margin (1 - jitter)/2 away. */
 #define CG_WORLEY_F1_CAP (1 + (1 - CG_WORLEY_JITTER) / 2)
@@ -148,8 +152,8 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
       for (int i = -1; i <= 1; i += 1) {
         int h = cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy);
         float ox = i + cg_feature(h) - dx;
-        float oy = j + cg_feature(cg_mix32(h ^ 1013904223)) - dy;
-        float oz = k + cg_feature(cg_mix32(h ^ 1664525)) - dz;
+        float oy = j + cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y)) - dy;
+        float oz = k + cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z)) - dz;
         best = min(best, ox * ox + oy * oy + oz * oz);
       }
     }
@@ -163,6 +167,19 @@ CG_FN float cg_octave_weight(float octaves, int k) { return clamp(octaves - k, 0
 
 #define CG_FBM_GRADIENT 0  /* octave term: 4D gradient noise, in [-1, 1], mean 0 */
 #define CG_FBM_WORLEY 1    /* octave term: smoothstep(0, 1, Worley F1), in [0, 1], mean about 1/2 */
+
+/* The term of octave k (frequency freq = 2^k) at p: the batched kernel
+ * (native/src/simd/) calls it lane by lane, cg_fbm point by point. */
+CG_FN float cg_fbm_sample(int kind, CG_VEC3 p, float w, float freq, int k, int seed) {
+  float s = k * CG_OCTAVE_SHIFT;
+  int octave_seed = cg_mix32(seed ^ k);
+  float sample = 0;
+  if (kind == CG_FBM_WORLEY)
+    sample = smoothstep(0, 1, cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, octave_seed));
+  else
+    sample = cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s, octave_seed);
+  return sample;
+}
 
 /* fBm, lacunarity 2: octave k samples the term at 2^k p (+ a per-octave shift,
  * its own seed), weighted gain^k; the sum is normalised by the sum of the
@@ -185,16 +202,7 @@ CG_FN float cg_fbm(int kind, CG_VEC3 p, float w, float octaves, float lod_octave
     norm += amp * wd;
     float we = cg_octave_weight(n_eval, k);
     float term = mean;
-    if (we > 0) {
-      float s = k * CG_OCTAVE_SHIFT;
-      int octave_seed = cg_mix32(seed ^ k);
-      float sample = 0;
-      if (kind == CG_FBM_WORLEY)
-        sample = smoothstep(0, 1, cg_worley_f1(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, octave_seed));
-      else
-        sample = cg_perlin4(p[0] * freq + s, p[1] * freq + s, p[2] * freq + s, w + s, octave_seed);
-      term = mix(mean, sample, we / wd);
-    }
+    if (we > 0) term = mix(mean, cg_fbm_sample(kind, p, w, freq, k, seed), we / wd);
     sum += amp * wd * term;
     amp *= g;
     freq *= 2;

@@ -1,0 +1,251 @@
+// simd/kernel_block.h — the batched density kernel, compiled once per instruction set.
+//
+// Included by exactly one .cpp per level (kernel_baseline.cpp, ...), each
+// built with its own -march and defining CG_SIMD_NS. CG_FN is `static inline`
+// here, so every shared function this file compiles has internal linkage and
+// the linker cannot hand AVX-512 code to a baseline caller (a test checks the
+// object files' symbols).
+//
+// The algorithm mirrors cg::density (model.h) and cg_cloud_noise / cg_fbm
+// (shared/) exactly, reordered: per chunk of points, the shape decides which
+// points need noise (the others are 0, no noise evaluated), those are
+// compacted, and each noise octave is evaluated lanes-across-points by a loop
+// the compiler vectorises (`#pragma omp simd`, -fopenmp-simd). The octave
+// bookkeeping (weights, amplitudes, LOD) is uniform over a call and stays
+// scalar. Same operations in the same order, no FMA contraction
+// (-ffp-contract=off), no value-changing flags: equal to the scalar kernel bit
+// for bit (tests/native/test_simd.cpp).
+#ifndef CG_SIMD_NS
+#error "define CG_SIMD_NS (the level's namespace) before including kernel_block.h"
+#endif
+
+#define CG_FN static inline
+#include "cloudgen/model.h"
+#include "levels.h"
+
+namespace cg::CG_SIMD_NS {
+
+namespace {
+
+constexpr int kChunk = 128;  // points per chunk (a multiple of the widest vector, 16 floats)
+constexpr int kPad = 16;     // noise loops run over a multiple of this many lanes
+
+// ---- Worley octave through a table of feature points -----------------------------------------------
+// cg_worley_f1 hashes the 27 cells around every point (81 cg_mix32 per point and octave). The points of
+// a tile or a row usually lie in 1-3 cells per axis at the Worley frequencies, so when the lanes' cells
+// span at most kSpan cells per axis, the feature points of those cells and their neighbours are hashed
+// once into a table and each lane reads its 27. The distances are the same expressions on the same
+// values, in the same order: bit for bit cg_worley_f1.
+constexpr int kSpan = 3;                  // widest cell range per axis the table serves
+constexpr int kSide = kSpan + 2;          // ... plus one neighbour on each side
+constexpr int kCells = kSide * kSide * kSide;
+
+struct WorleyTable {
+  float fx[kCells], fy[kCells], fz[kCells];
+};
+
+// The octave's lattice coordinates (as cg_worley_f1 computes them) of n lanes: the cell (before
+// masking) and the offset inside it.
+struct WorleyCells {
+  int cx[kChunk], cy[kChunk], cz[kChunk];
+  float dx[kChunk], dy[kChunk], dz[kChunk];
+};
+
+// smoothstep(0, 1, cg_worley_f1(...)) of n lanes at lattice points (x, y, z) * freq + s with octave seed
+// `seed` — the Worley term of cg_fbm_sample — into `out`. False (nothing written) when the cells span
+// too much for the table.
+bool worley_octave_table(int n, const float* x, const float* y, const float* z, float freq, float s, int seed,
+                         WorleyCells& C, float* out) {
+  int lo[3] = {1 << 30, 1 << 30, 1 << 30}, hi[3] = {-(1 << 30), -(1 << 30), -(1 << 30)};
+  for (int i = 0; i < n; ++i) {
+    const float wx = cg_wrap(x[i] * freq + s), wy = cg_wrap(y[i] * freq + s), wz = cg_wrap(z[i] * freq + s);
+    const float fx = floor(wx), fy = floor(wy), fz = floor(wz);
+    C.cx[i] = int(fx);
+    C.cy[i] = int(fy);
+    C.cz[i] = int(fz);
+    C.dx[i] = wx - fx;
+    C.dy[i] = wy - fy;
+    C.dz[i] = wz - fz;
+  }
+  for (int i = 0; i < n; ++i) {
+    lo[0] = C.cx[i] < lo[0] ? C.cx[i] : lo[0];
+    hi[0] = C.cx[i] > hi[0] ? C.cx[i] : hi[0];
+    lo[1] = C.cy[i] < lo[1] ? C.cy[i] : lo[1];
+    hi[1] = C.cy[i] > hi[1] ? C.cy[i] : hi[1];
+    lo[2] = C.cz[i] < lo[2] ? C.cz[i] : lo[2];
+    hi[2] = C.cz[i] > hi[2] ? C.cz[i] : hi[2];
+  }
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] - lo[a] >= kSpan) return false;
+  // Feature points of cells lo - 1 .. hi + 1 (the hash chain of cg_worley_f1: z, then y, then x): as
+  // many cells as the lanes need, so a chunk inside one cell hashes the 27 cells of one point.
+  const int sx = hi[0] - lo[0] + 3, sy = hi[1] - lo[1] + 3, sz = hi[2] - lo[2] + 3;
+  WorleyTable T;
+  for (int c = 0; c < sz; ++c) {
+    const int hz = cg_mix32(((lo[2] - 1 + c) & CG_PERIOD_MASK) ^ seed);
+    for (int b = 0; b < sy; ++b) {
+      const int hy = cg_mix32(((lo[1] - 1 + b) & CG_PERIOD_MASK) ^ hz);
+      for (int a = 0; a < sx; ++a) {
+        const int h = cg_mix32(((lo[0] - 1 + a) & CG_PERIOD_MASK) ^ hy);
+        const int t = (c * sy + b) * sx + a;
+        T.fx[t] = cg_feature(h);
+        T.fy[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y));
+        T.fz[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z));
+      }
+    }
+  }
+  int offset[27];  // table offset of neighbour (i, j, k), in cg_worley_f1's order
+  for (int k = -1, c = 0; k <= 1; k += 1)
+    for (int j = -1; j <= 1; j += 1)
+      for (int i = -1; i <= 1; i += 1) offset[c++] = (k * sy + j) * sx + i;
+#pragma omp simd
+  for (int q = 0; q < n; ++q) {
+    const int base = ((C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1)) * sx + (C.cx[q] - lo[0] + 1);
+    float best = 16;
+    for (int k = -1; k <= 1; k += 1)
+      for (int j = -1; j <= 1; j += 1)
+        for (int i = -1; i <= 1; i += 1) {
+          const int t = base + offset[((k + 1) * 3 + (j + 1)) * 3 + (i + 1)];
+          const float ox = i + T.fx[t] - C.dx[q];
+          const float oy = j + T.fy[t] - C.dy[q];
+          const float oz = k + T.fz[t] - C.dz[q];
+          best = min(best, ox * ox + oy * oy + oz * oz);
+        }
+    out[q] = smoothstep(0, 1, min(sqrt(best), CG_WORLEY_F1_CAP));
+  }
+  return true;
+}
+
+struct Scratch {
+  WorleyCells cells;
+  float sample[kChunk];
+};
+
+struct alignas(64) Lanes {
+  float x[kChunk], y[kChunk], z[kChunk];  // the point, local frame
+  float a[kChunk], b[kChunk], c[kChunk];  // the point in one noise's lattice units
+  float shape[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], sum[kChunk];
+  int index[kChunk];  // position of lane i in the caller's arrays
+  Scratch scratch;
+};
+
+// cg_fbm over n lanes at points (x, y, z) and 4th coordinate w: the same
+// bookkeeping, the octave loop outside, the lanes inside.
+void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, float w, float octaves,
+               float lod_octaves, float gain, int seed, float* sum, float* result, Scratch& scratch) {
+  const float n_decl = clamp(octaves, 0, CG_MAX_OCTAVES);
+  const float n_eval = min(n_decl, lod_octaves);
+  const float g = clamp(gain, 0, CG_MAX_GAIN);
+  const float mean = kind == CG_FBM_WORLEY ? 0.5f : 0.0f;
+  for (int i = 0; i < n; ++i) sum[i] = 0.0f;
+  float norm = 0.0f, amp = 1.0f, freq = 1.0f;
+  for (int k = 0; k < CG_MAX_OCTAVES; k += 1) {
+    const float wd = cg_octave_weight(n_decl, k);
+    if (wd <= 0.0f) break;
+    norm += amp * wd;
+    const float we = cg_octave_weight(n_eval, k);
+    const float aw = amp * wd;
+    if (we > 0.0f) {
+      const float t = we / wd;
+      if (kind == CG_FBM_WORLEY) {
+        // cg_fbm_sample's Worley branch: shift s, octave seed, then the table when the cells allow it
+        if (worley_octave_table(n, x, y, z, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k), scratch.cells,
+                                scratch.sample)) {
+#pragma omp simd
+          for (int i = 0; i < n; ++i) sum[i] += aw * mix(mean, scratch.sample[i], t);
+        } else {
+#pragma omp simd
+          for (int i = 0; i < n; ++i)
+            sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_WORLEY, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
+        }
+      } else {
+#pragma omp simd
+        for (int i = 0; i < n; ++i)
+          sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_GRADIENT, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
+      }
+    } else {
+      for (int i = 0; i < n; ++i) sum[i] += aw * mean;
+    }
+    amp *= g;
+    freq *= 2.0f;
+  }
+  for (int i = 0; i < n; ++i) result[i] = norm > 0.0f ? sum[i] / norm : mean;
+}
+
+// Lattice coordinates p * frequency + offset of n lanes (as noise_at computes them).
+void to_lattice(Lanes& L, int n, float frequency, vec3 offset) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    L.a[i] = L.x[i] * frequency + offset[0];
+    L.b[i] = L.y[i] * frequency + offset[1];
+    L.c[i] = L.z[i] * frequency + offset[2];
+  }
+}
+
+// Shape stage: out = 0 where the point is outside the box or provably empty;
+// the others are appended to L (point, shape, index). Returns their count.
+int shape_stage(const Model& m, const vec3* points, int count, std::size_t first, float* out, Lanes& L) {
+  int n = 0;
+  for (int q = 0; q < count; ++q) {
+    const vec3 p = points[q];
+    const vec3 g(p[0] / m.box[0] + 0.5f, p[1] / m.box[1] + 0.5f, p[2] / m.box[2] + 0.5f);
+    out[q] = 0.0f;
+    if (!(g[0] >= 0.0f && g[0] <= 1.0f && g[1] >= 0.0f && g[1] <= 1.0f && g[2] >= 0.0f && g[2] <= 1.0f)) continue;
+    const float curve_value = m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_height(g[2], m.cloud_scale)) : 0.0f;
+    const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value);
+    if (cg_shape_proves_empty(s, m.distortion)) continue;
+    L.x[n] = p[0];
+    L.y[n] = p[1];
+    L.z[n] = p[2];
+    L.shape[n] = s;
+    L.index[n] = int(first) + q;
+    ++n;
+  }
+  return n;
+}
+
+// Noise and eq. 3.4 for the n lanes of L (padded to a multiple of kPad), written to out.
+void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
+  const int padded = (n + kPad - 1) / kPad * kPad;
+  for (int i = n; i < padded; ++i) {  // padding lanes repeat the last point; their values are dropped
+    L.x[i] = L.x[n - 1];
+    L.y[i] = L.y[n - 1];
+    L.z[i] = L.z[n - 1];
+  }
+  const float wi = clamp(m.worley_influence, 0, 1);
+  const float wv = clamp(m.wave, 0, 1);
+  const float ni = clamp(m.noise_influence, 0, 1);
+  for (int i = 0; i < padded; ++i) L.perlin[i] = 0.0f;
+  if (cg_noise_uses_perlin(wi, wv, ni)) {
+    to_lattice(L, padded, m.perlin_frequency, m.perlin_offset);
+    fbm_lanes(CG_FBM_GRADIENT, padded, L.a, L.b, L.c, m.w4, m.noise_detail, lod.perlin_octaves, m.noise_whisp, m.seed,
+              L.sum, L.perlin, L.scratch);
+  }
+  to_lattice(L, padded, m.worley_frequency, m.worley_offset);
+  for (int i = 0; i < padded; ++i) L.worley[i] = 0.5f;
+  if (cg_noise_uses_worley(wi, wv))
+    fbm_lanes(CG_FBM_WORLEY, padded, L.a, L.b, L.c, 0.0f, CG_WORLEY_OCTAVES, lod.worley_octaves, m.worley_clump,
+              m.seed ^ CG_SEED_SALT_WORLEY, L.sum, L.worley, L.scratch);
+  for (int i = 0; i < padded; ++i) L.sine[i] = 0.5f;
+  if (cg_noise_uses_sine(wi, wv))
+    for (int i = 0; i < n; ++i) L.sine[i] = cg_wave_sine(L.a[i], L.perlin[i]);
+#pragma omp simd
+  for (int i = 0; i < padded; ++i) {
+    const float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni);
+    L.sum[i] = cg_cloud_main(L.shape[i], noise, m.distortion, m.density);
+  }
+  for (int i = 0; i < n; ++i) out[L.index[i]] = L.sum[i];
+}
+
+}  // namespace
+
+void density_points(const Model& m, const vec3* points, std::size_t n, const Lod& lod, float* out) {
+  Lanes L;
+  for (std::size_t first = 0; first < n; first += kChunk) {
+    const int count = int(n - first < std::size_t(kChunk) ? n - first : std::size_t(kChunk));
+    const int kept = shape_stage(m, points + first, count, 0, out + first, L);
+    if (kept > 0) noise_stage(m, lod, L, kept, out + first);
+  }
+}
+
+}  // namespace cg::CG_SIMD_NS
