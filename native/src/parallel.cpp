@@ -9,12 +9,26 @@
 #include <thread>
 #include <vector>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 namespace cg {
 
-int resolve_threads(int requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
+int usable_cores() {
+#if defined(__linux__)
+  // The cores this process may run on (taskset, cgroup cpusets, a farm's slot),
+  // not every core of the machine.
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int n = CPU_COUNT(&set);
+    if (n > 0) return n;
+  }
+#endif
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
+
+int resolve_threads(int requested) { return requested > 0 ? requested : usable_cores(); }
 
 bool parallel_for(std::int64_t count, int threads,
                   const std::function<void(std::int64_t, int)>& body, const Progress& progress) {

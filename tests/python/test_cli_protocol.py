@@ -116,3 +116,20 @@ def test_reader_refuses_non_protocol_lines():
         ev.feed('{"event": "plan", "protocol": 2, "files": []}')
     ev.feed('{"event": "something_new", "x": 1}')
     assert ev.unknown == [{"event": "something_new", "x": 1}]
+
+
+def test_threads_follow_cpu_affinity(out_dir):
+    """--threads 0 means one per core this process may use (taskset, cpusets), not per machine core."""
+    import os
+    import subprocess
+
+    from test_cli import CLOUDGEN
+
+    cores = sorted(os.sched_getaffinity(0))
+    args = ["bake", "--preset", "cumulus", "--resolution", "8", "--dry-run", "--json", "--output",
+            str(out_dir / "t.vdb")]
+    pinned = subprocess.run([CLOUDGEN, *args], capture_output=True, text=True, timeout=60,
+                            preexec_fn=lambda: os.sched_setaffinity(0, {cores[0]}))
+    free = run(*args)
+    assert json.loads(pinned.stdout.splitlines()[0])["threads"] == 1, pinned.stdout
+    assert json.loads(free.stdout.splitlines()[0])["threads"] == len(cores), free.stdout

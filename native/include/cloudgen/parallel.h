@@ -11,7 +11,11 @@ namespace cg {
 // items already running finish, and parallel_for returns false.
 using Progress = std::function<bool(std::int64_t done, std::int64_t total)>;
 
-// Number of worker threads to use for `requested` (0 = one per hardware thread).
+// Cores this process may run on: its CPU affinity (taskset, cpusets) where the
+// system tells, else the hardware threads; at least 1.
+int usable_cores();
+
+// Number of worker threads to use for `requested` (0 = one per usable core).
 int resolve_threads(int requested);
 
 // Runs body(item, worker) for every item in [0, count) on `threads` workers
