@@ -23,6 +23,7 @@
 #include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
@@ -158,13 +159,14 @@ std::string stored_bake_key(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return {};
   try {
-    const cgio::VdbFileInfo info = cgio::read_vdb_info(path);
+    // An existing output is untrusted: read in a limited child (io/vdb_sandbox.h).
+    const cgio::VdbFileInfo info = cgio::read_vdb_info_isolated(path);
     for (const cgio::VdbGridInfo& g : info.grids) {
       const auto it = g.metadata.find("cloudgen_bake_key");
       if (g.name == "density" && it != g.metadata.end()) return it->second;
     }
-  } catch (const cgio::IoError&) {
-    // unreadable: bake it again
+  } catch (const std::exception&) {
+    // unreadable, hostile or foreign: bake it again
   }
   return {};
 }

@@ -17,6 +17,7 @@
 #include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
@@ -303,15 +304,18 @@ static const char* const kInfoHelp =
     "box, minimum and maximum of the active values, and all metadata (for\n"
     "cloudgen files: version, parameters, preset, time, resolution, LOD).\n"
     "  --json   the same as one JSON object\n"
-    "Exit code 1 when the file is missing or not a readable VDB file.\n";
+    "Exit code 1 when the file is missing or not a readable VDB file. The file is\n"
+    "checked first (magic, version, header, descriptors, metadata sizes) and read\n"
+    "by OpenVDB in a child process with memory and time limits\n"
+    "(docs/hostile_inputs.md; CLOUDGEN_VDB_READ_MIB, CLOUDGEN_VDB_READ_SECONDS).\n";
 
 int cmd_info(const std::vector<std::string>& argv) {
   Args a("info", argv, {{"--json", false}});
   if (a.help()) return std::cout << kInfoHelp, kExitOk;
   if (a.positional().size() != 1) throw UsageError("info needs exactly one FILE.vdb argument");
   const std::string path = a.positional()[0];
-  if (cgio::file_size(path) < 0) throw cgio::IoError("cannot read '" + path + "': " + std::strerror(errno));
-  const cgio::VdbFileInfo f = cgio::read_vdb_info(path);
+  // Checked, then read by OpenVDB in a limited child process: a hostile file costs one error line.
+  const cgio::VdbFileInfo f = cgio::read_vdb_info_isolated(path);
   if (a.has("--json")) {
     nlohmann::json doc = {{"file", path}, {"bytes", cgio::file_size(path)}, {"version", f.version},
                           {"compression", f.compression}, {"grids", nlohmann::json::array()}};

@@ -14,6 +14,7 @@
 #include "cloudgen/grid.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
@@ -117,6 +118,8 @@ int run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The hidden verb of the limited child that reads an untrusted VDB (io/vdb_sandbox.h).
+  if (argc == 3 && std::strcmp(argv[1], cgio::kVdbInfoChildVerb) == 0) return cgio::vdb_info_child_main(argv[2]);
   cli::install_signal_handlers();
   const std::vector<std::string> args(argv + 1, argv + argc);
   try {

@@ -13,8 +13,12 @@
 
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
+#include "io/vdb_check.h"
 
 namespace cgio {
+
+static_assert(VdbHeaderLimits{}.max_version == openvdb::OPENVDB_FILE_VERSION,
+              "vdb_check.h: the newest file version is this OpenVDB's");
 
 namespace {
 
@@ -88,6 +92,8 @@ auto guarded(const std::string& what, F&& f) -> decltype(f()) {
     return f();
   } catch (const IoError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    throw;  // the caller says what ran out (the sandboxed reader: its memory limit)
   } catch (const openvdb::Exception& e) {
     throw IoError(what + ": " + e.what());
   } catch (const std::exception& e) {
