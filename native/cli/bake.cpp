@@ -20,6 +20,7 @@
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
+#include "cloudgen/sequence.h"
 #include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
@@ -97,31 +98,10 @@ struct Job {
 };
 
 std::vector<Job> sequence_jobs(const std::string& file, const std::string& output) {
-  using json = nlohmann::json;
-  const std::string origin = "--sequence " + file;
-  json doc;
-  try {
-    doc = json::parse(read_text_file(file, "--sequence"));
-  } catch (const json::exception& e) {
-    throw UsageError(origin + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!doc.is_object() || !doc.contains("frames") || !doc["frames"].is_array() || doc["frames"].empty())
-    throw UsageError(origin + ": expected {\"frames\": [{\"frame\": N, \"params\": {...}}, ...]} with at least one frame");
-  for (const auto& [key, value] : doc.items())
-    if (key != "frames" && key != "fps") throw UsageError(origin + ": unknown key '" + key + "'");
+  // Limits, duplicate keys, fps and frame entries: cg::parse_sequence (cloudgen/sequence.h).
   std::vector<Job> jobs;
-  std::map<long long, bool> seen;
-  for (const json& f : doc["frames"]) {
-    if (!f.is_object() || !f.contains("frame") || !f["frame"].is_number_integer() || !f.contains("params") ||
-        !f["params"].is_object())
-      throw UsageError(origin + ": every entry needs an integer \"frame\" and a \"params\" object");
-    const long long n = f["frame"].get<long long>();
-    if (n < 0 || n > 1000000) throw UsageError(origin + ": frame numbers must be in [0, 1000000]; got " + std::to_string(n));
-    if (seen[n]) throw UsageError(origin + ": frame " + std::to_string(n) + " is listed twice");
-    seen[n] = true;
-    jobs.push_back({n, cg::params_from_json(f["params"].dump(), origin + " (frame " + std::to_string(n) + ")"),
-                    cg::frame_path(output, n)});
-  }
+  for (cg::SequenceFrame& f : cg::parse_sequence(read_text_file(file, "--sequence", 64u << 20), "--sequence " + file))
+    jobs.push_back({f.frame, std::move(f.params), cg::frame_path(output, f.frame)});
   return jobs;
 }
 
@@ -217,7 +197,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
   std::optional<cg::CameraView> camera;
   if (a.has("--camera")) {
     const std::string file = *a.get("--camera");
-    camera = cg::parse_camera(read_text_file(file, "--camera"), "--camera " + file);
+    camera = cg::parse_camera(read_text_file(file, "--camera", 1u << 20), "--camera " + file);
     if (camera->pixels_per_voxel <= 0.0f && a.has("--quality"))
       camera->pixels_per_voxel = cg::find_tier(*a.get("--quality"))->bake_pixels_per_voxel;
   }

@@ -83,7 +83,8 @@ const char* const kUsage =
 namespace {
 
 int fail(int code, const std::string& message) {
-  cli::report_error(code, cli::one_line(message));
+  // Values in messages are clipped where they are quoted; this caps the whole line.
+  cli::report_error(code, cli::clipped(cli::one_line(message), 1000));
   return code;
 }
 
