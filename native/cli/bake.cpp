@@ -31,6 +31,7 @@ namespace cli {
 namespace {
 
 constexpr long long kMaxResolution = 1000000;
+constexpr float kMinVoxel = 1e-7f;  // smallest voxel edge written (OpenVDB: a scale near 0 is an error)
 
 const char* const kBakeHelp =
     "usage: cloudgen bake (--preset NAME | --params FILE.json | --sequence FILE.json) --output FILE.vdb\n"
@@ -228,12 +229,32 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (camera) {
       p.fit = cg::fit_camera(p.model, *camera);
       const float longest = std::max({p.model.box[0], p.model.box[1], p.model.box[2]});
+      // Bounded up front: a camera inside the box or a tiny pixel footprint once
+      // hung the estimate or failed at write time ("Non-zero scale values required").
+      const float finest_allowed = longest / float(kMaxResolution);
+      if (p.fit.visible && !have_resolution && !(p.fit.voxel >= finest_allowed)) {
+        char msg[500];
+        std::snprintf(msg, sizeof msg,
+                      "--camera%s: the camera asks for voxels of %g (pixel footprint %g at depth %g), finer than the "
+                      "box's longest side / %lld = %g; move the camera away from (or out of) the box, raise "
+                      "pixels_per_voxel or cap the detail with --resolution N",
+                      job.frame >= 0 ? (" (frame " + std::to_string(job.frame) + ")").c_str() : "", p.fit.voxel,
+                      p.fit.footprint, p.fit.nearest_depth, kMaxResolution, finest_allowed);
+        throw UsageError(msg);
+      }
       const float finest = have_resolution ? longest / float(opts.resolution) : 0.0f;
       p.opts.voxel = std::max(p.fit.voxel, finest);
       p.opts.use_region = true;
       p.opts.region = p.fit.region;
     }
     p.grid = cg::bake_grid(p.model, p.opts);
+    if (!(p.grid.voxel >= kMinVoxel)) {  // OpenVDB's transform refuses scales near 0
+      char msg[300];
+      std::snprintf(msg, sizeof msg, "%s: voxels of %g are smaller than %g scene units; lower --resolution or "
+                    "enlarge the box", camera ? "--camera" : ("--resolution " + std::to_string(opts.resolution)).c_str(),
+                    p.grid.voxel, kMinVoxel);
+      throw UsageError(msg);
+    }
     p.key = cg::bake_key(p.model, p.opts, half);
     const double gib = double(cg::estimate_bake_bytes(p.model, p.opts)) / double(1ull << 30);
     if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions
