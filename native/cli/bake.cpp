@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -212,6 +213,11 @@ int cmd_bake(const std::vector<std::string>& argv) {
   const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
   const bool quiet = a.has("--quiet"), update = a.has("--update");
   for (const Job& j : jobs) cgio::check_output_path(j.path);
+  {  // temporaries of killed runs (SIGKILL during a write), once per output directory
+    std::set<std::string> dirs;
+    for (const Job& j : jobs)
+      if (dirs.insert(std::filesystem::path(j.path).parent_path().string()).second) cgio::remove_stale_temporaries(j.path);
+  }
 
   // Per frame: the model, the options (a camera fits them to the frame's box)
   // and the key of what would be written. Memory is checked for every frame
