@@ -22,6 +22,8 @@ apt_packages=(g++ make pkg-config libopenvdb-dev libopenimageio-dev libboost-ios
 if ((want_tests)); then
   # blender: Debian's 3.4 binary loads our VDBs in a test (it has no OSL); its Python needs numpy
   apt_packages+=(blender python3-numpy)
+  # clang and its runtime (libFuzzer): the fuzz targets of tests/fuzz
+  apt_packages+=(clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -59,9 +59,11 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
   if (!doc.is_object()) throw ParamError(where + ": expected a JSON object (see docs/camera.md)");
   static const char* const known[] = {"camera_to_cloud", "tan_half_fov", "resolution", "near",
                                       "margin", "pixels_per_voxel", "type", "light_directions"};
-  for (const auto& [key, value] : doc.items())
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    const std::string& key = it.key();  // not a structured binding: clang 14 cannot capture one
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
       throw ParamError(where + ": unknown key '" + brief_text(key) + "'");
+  }
   for (const char* key : {"camera_to_cloud", "tan_half_fov", "resolution"})
     if (!doc.contains(key)) throw ParamError(where + ": missing '" + key + "'");
   if (doc.contains("type") && doc["type"] != "PERSP")
