@@ -216,7 +216,8 @@ int cmd_bake(const std::vector<std::string>& argv) {
   {  // temporaries of killed runs (SIGKILL during a write), once per output directory
     std::set<std::string> dirs;
     for (const Job& j : jobs)
-      if (dirs.insert(std::filesystem::path(j.path).parent_path().string()).second) cgio::remove_stale_temporaries(j.path);
+      if (dirs.insert(std::filesystem::path(j.path).parent_path().string()).second)
+        cgio::remove_stale_temporaries(j.path);
   }
 
   // Per frame: the model, the options (a camera fits them to the frame's box)
@@ -256,9 +257,9 @@ int cmd_bake(const std::vector<std::string>& argv) {
     p.grid = cg::bake_grid(p.model, p.opts);
     if (!(p.grid.voxel >= kMinVoxel)) {  // OpenVDB's transform refuses scales near 0
       char msg[300];
+      const std::string what = camera ? "--camera" : "--resolution " + std::to_string(opts.resolution);
       std::snprintf(msg, sizeof msg, "%s: voxels of %g are smaller than %g scene units; lower --resolution or "
-                    "enlarge the box", camera ? "--camera" : ("--resolution " + std::to_string(opts.resolution)).c_str(),
-                    p.grid.voxel, kMinVoxel);
+                    "enlarge the box", what.c_str(), p.grid.voxel, kMinVoxel);
       throw UsageError(msg);
     }
     p.key = cg::bake_key(p.model, p.opts, half);

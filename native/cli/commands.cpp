@@ -69,7 +69,9 @@ Args::Args(const std::string& verb, const std::vector<std::string>& argv, const 
     const OptionSpec* spec = nullptr;
     for (const OptionSpec& s : specs)
       if (name == s.name) spec = &s;
-    if (!spec) throw UsageError("unknown option '" + clipped(name, 100) + "' for '" + verb + "' (see `cloudgen " + verb + " --help`)");
+    if (!spec)
+      throw UsageError("unknown option '" + clipped(name, 100) + "' for '" + verb + "' (see `cloudgen " + verb +
+                       " --help`)");
     if (values_.count(name)) throw UsageError("option '" + name + "' given twice");
     if (!spec->takes_value) {
       if (eq != std::string::npos) throw UsageError("option '" + name + "' takes no value");

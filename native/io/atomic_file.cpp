@@ -135,7 +135,8 @@ long temp_pid(const std::string& name) {
   if (at == std::string::npos || at < 2) return -1;
   std::size_t i = at + 5, digits = 0;
   long pid = 0;
-  for (; i < name.size() && name[i] >= '0' && name[i] <= '9' && digits < 10; ++i, ++digits) pid = pid * 10 + (name[i] - '0');
+  for (; i < name.size() && name[i] >= '0' && name[i] <= '9' && digits < 10; ++i, ++digits)
+    pid = pid * 10 + (name[i] - '0');
   if (digits == 0 || i >= name.size() || name[i] != '-') return -1;
   std::size_t n = 0;
   for (++i; i < name.size() && name[i] >= '0' && name[i] <= '9'; ++i) ++n;

@@ -31,7 +31,8 @@ class Cursor {
     pos_ = p;
   }
   void need(std::int64_t bytes, const char* what) {
-    if (bytes < 0 || bytes > file_ - pos_) throw Bad{std::string("truncated or corrupt: ") + what + " runs past the end"};
+    if (bytes < 0 || bytes > file_ - pos_)
+      throw Bad{std::string("truncated or corrupt: ") + what + " runs past the end"};
     if (pos_ + bytes > std::int64_t(n_)) throw PrefixEnd{};
   }
   std::uint64_t uint(int bytes, const char* what) {
@@ -43,8 +44,8 @@ class Cursor {
   }
   std::string text(std::uint32_t max, const char* what) {
     const std::uint32_t len = std::uint32_t(uint(4, what));
-    if (len > max) throw Bad{std::string(what) + " is " + std::to_string(len) + " bytes long (at most " +
-                             std::to_string(max) + ")"};
+    if (len > max)
+      throw Bad{std::string(what) + " is " + std::to_string(len) + " bytes long (at most " + std::to_string(max) + ")"};
     need(len, what);
     std::string s(reinterpret_cast<const char*>(d_ + pos_), len);
     pos_ += len;
@@ -64,10 +65,10 @@ class Cursor {
 
 // Sizes OpenVDB reads for its fixed-size metadata types (0: any length).
 int fixed_size(const std::string& type) {
-  static const std::map<std::string, int> sizes = {
-      {"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},  {"double", 8}, {"vec2i", 8},
-      {"vec2s", 8},  {"vec2d", 16}, {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
-      {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
+  static const std::map<std::string, int> sizes = {{"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},
+                                                   {"double", 8}, {"vec2i", 8},  {"vec2s", 8},  {"vec2d", 16},
+                                                   {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+                                                   {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
   const auto it = sizes.find(type);
   return it == sizes.end() ? 0 : it->second;
 }
@@ -91,8 +92,8 @@ void check_meta_map(Cursor& c, const VdbHeaderLimits& lim, const std::string& wh
     const std::string what = where + " metadata '" + clip(name) + "' (" + clip(type) + ")";
     if (fixed && size != std::uint32_t(fixed))
       throw Bad{what + " holds " + std::to_string(size) + " bytes; its type has " + std::to_string(fixed)};
-    if (size > lim.max_value) throw Bad{what + " holds " + std::to_string(size) + " bytes (at most " +
-                                        std::to_string(lim.max_value) + ")"};
+    if (size > lim.max_value)
+      throw Bad{what + " holds " + std::to_string(size) + " bytes (at most " + std::to_string(lim.max_value) + ")"};
     if (type == "bool") {
       c.need(1, "a metadata value");
       const unsigned char b = c.byte_at(c.pos());
@@ -103,8 +104,8 @@ void check_meta_map(Cursor& c, const VdbHeaderLimits& lim, const std::string& wh
 }
 
 // One grid's descriptor; returns the grid's end offset (0 when unknown).
-std::int64_t check_descriptor(Cursor& c, std::uint32_t version, bool offsets, const VdbHeaderLimits& lim,
-                              int index, VdbHeaderSummary& sum) {
+std::int64_t check_descriptor(Cursor& c, std::uint32_t version, bool offsets, const VdbHeaderLimits& lim, int index,
+                              VdbHeaderSummary& sum) {
   const std::string where = "grid " + std::to_string(index);
   const std::string name = c.text(lim.max_name, "a grid name");
   c.text(lim.max_name, "a grid type name");
@@ -167,7 +168,7 @@ VdbHeaderSummary check_vdb_file(const std::string& path, const VdbHeaderLimits& 
   const std::string what = "cannot read '" + path + "': ";
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
   if (fd < 0) throw IoError(what + std::strerror(errno));
-  struct stat st{};
+  struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
     throw IoError(what + (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file") + ", not a VDB file");

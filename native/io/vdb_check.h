@@ -22,16 +22,16 @@ struct VdbHeaderLimits {
   std::uint32_t min_version = 220;  // OPENVDB_FILE_VERSION_SELECTIVE_COMPRESSION
   std::uint32_t max_version = 224;  // OPENVDB_FILE_VERSION of OpenVDB 10 (checked in vdb_io.cpp)
   std::int64_t max_grids = 1024;
-  std::int64_t max_metadata = 4096;          // entries per metadata map
-  std::uint32_t max_name = 4096;             // bytes in a name or type name
-  std::uint32_t max_value = 64u << 20;       // bytes in one metadata value
+  std::int64_t max_metadata = 4096;     // entries per metadata map
+  std::uint32_t max_name = 4096;        // bytes in a name or type name
+  std::uint32_t max_value = 64u << 20;  // bytes in one metadata value
 };
 
 struct VdbHeaderSummary {
   std::uint32_t version = 0;
-  bool offsets = false;     // the file has grid offsets (random access)
+  bool offsets = false;  // the file has grid offsets (random access)
   std::int64_t grids = 0;
-  int grids_checked = 0;    // grids whose metadata was checked
+  int grids_checked = 0;  // grids whose metadata was checked
 };
 
 // Checks the first `size` bytes of a file of `file_size` bytes (size <=

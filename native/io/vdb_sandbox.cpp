@@ -55,8 +55,13 @@ double env_number(const char* name, double fallback) {
 }
 
 std::string signal_text(int sig) {
-  const char* name = sig == SIGSEGV ? "SIGSEGV" : sig == SIGABRT ? "SIGABRT" : sig == SIGBUS ? "SIGBUS"
-                     : sig == SIGKILL ? "SIGKILL" : sig == SIGXCPU ? "SIGXCPU" : sig == SIGFPE ? "SIGFPE" : "";
+  const char* name = sig == SIGSEGV   ? "SIGSEGV"
+                     : sig == SIGABRT ? "SIGABRT"
+                     : sig == SIGBUS  ? "SIGBUS"
+                     : sig == SIGKILL ? "SIGKILL"
+                     : sig == SIGXCPU ? "SIGXCPU"
+                     : sig == SIGFPE  ? "SIGFPE"
+                                      : "";
   return *name ? std::string(name) : "signal " + std::to_string(sig);
 }
 
@@ -65,12 +70,21 @@ std::string signal_text(int sig) {
 std::string vdb_info_to_json(const VdbFileInfo& f) {
   json doc = {{"version", f.version}, {"compression", f.compression}, {"grids", json::array()}};
   for (const VdbGridInfo& g : f.grids)
-    doc["grids"].push_back({{"name", g.name}, {"class", g.grid_class}, {"value_type", g.value_type},
+    doc["grids"].push_back({{"name", g.name},
+                            {"class", g.grid_class},
+                            {"value_type", g.value_type},
                             {"voxel_size", {num(g.voxel_size[0]), num(g.voxel_size[1]), num(g.voxel_size[2])}},
-                            {"linear", g.linear}, {"half", g.half}, {"active_voxels", g.active_voxels},
-                            {"leaf_count", g.leaf_count}, {"empty", g.empty}, {"bbox_min", g.bbox_min},
-                            {"bbox_max", g.bbox_max}, {"min", num(g.min)}, {"max", num(g.max)},
-                            {"background", num(g.background)}, {"metadata", g.metadata}});
+                            {"linear", g.linear},
+                            {"half", g.half},
+                            {"active_voxels", g.active_voxels},
+                            {"leaf_count", g.leaf_count},
+                            {"empty", g.empty},
+                            {"bbox_min", g.bbox_min},
+                            {"bbox_max", g.bbox_max},
+                            {"min", num(g.min)},
+                            {"max", num(g.max)},
+                            {"background", num(g.background)},
+                            {"metadata", g.metadata}});
   // Metadata text from a foreign file need not be UTF-8: replaced, never thrown.
   return doc.dump(-1, ' ', false, json::error_handler_t::replace);
 }
@@ -131,8 +145,8 @@ VdbFileInfo read_vdb_info_isolated(const std::string& path, const std::string& h
   const std::string what = "cannot read '" + path + "': ";
   (void)check_vdb_file(path);  // regular file, header, descriptors, metadata: throws IoError
   const double file_bytes = double(std::max(0LL, file_size(path)));
-  double memory = std::min(double(lim.memory_base) + double(lim.memory_per_file_byte) * file_bytes,
-                           double(lim.memory_max));
+  double memory =
+      std::min(double(lim.memory_base) + double(lim.memory_per_file_byte) * file_bytes, double(lim.memory_max));
   memory = env_number("CLOUDGEN_VDB_READ_MIB", memory / double(1 << 20)) * double(1 << 20);
   const double seconds = env_number("CLOUDGEN_VDB_READ_SECONDS", lim.seconds_base + file_bytes / lim.bytes_per_second);
 
@@ -155,9 +169,15 @@ VdbFileInfo read_vdb_info_isolated(const std::string& path, const std::string& h
   std::vector<char*> envp;
   for (std::string& e : env) envp.push_back(e.data());
   envp.push_back(nullptr);
-  struct rlimit as_limit{rlim_t(memory), rlim_t(memory)};
-  struct rlimit cpu_limit{rlim_t(seconds) + 1, rlim_t(seconds) + 2};
-  struct rlimit no_core{0, 0};
+  struct rlimit as_limit {
+    rlim_t(memory), rlim_t(memory)
+  };
+  struct rlimit cpu_limit {
+    rlim_t(seconds) + 1, rlim_t(seconds) + 2
+  };
+  struct rlimit no_core {
+    0, 0
+  };
 
   // stdout: the answer. stderr: /dev/null, except under ASan, where the
   // parent reads it to tell a memory-limit report from a real one.
@@ -178,8 +198,10 @@ VdbFileInfo read_vdb_info_isolated(const std::string& path, const std::string& h
   if (pid == 0) {
     if (devnull >= 0) ::dup2(devnull, 0);
     ::dup2(out[1], 1);
-    if (kAsan) ::dup2(err[1], 2);
-    else if (devnull >= 0) ::dup2(devnull, 2);  // OpenVDB's own messages stay out of the one-line error
+    if (kAsan)
+      ::dup2(err[1], 2);
+    else if (devnull >= 0)
+      ::dup2(devnull, 2);  // OpenVDB's own messages stay out of the one-line error
     if (!kAsan) ::setrlimit(RLIMIT_AS, &as_limit);
     ::setrlimit(RLIMIT_CPU, &cpu_limit);
     ::setrlimit(RLIMIT_CORE, &no_core);
@@ -239,12 +261,12 @@ VdbFileInfo read_vdb_info_isolated(const std::string& path, const std::string& h
   }
   char limits[160];
   std::snprintf(limits, sizeof limits, "limits: %.0f MiB, %.0f s", memory / double(1 << 20), seconds);
-  if (timed_out) throw IoError(what + "OpenVDB did not finish reading it in time (corrupt or hostile file?; " +
-                               limits + ")");
+  if (timed_out)
+    throw IoError(what + "OpenVDB did not finish reading it in time (corrupt or hostile file?; " + limits + ")");
   if (too_big) throw IoError(what + "the reader process answered more than the allowed output");
   if (WIFSIGNALED(status))
-    throw IoError(what + "OpenVDB failed reading it (the reader process ended by " +
-                  signal_text(WTERMSIG(status)) + "; corrupt or hostile file?; " + limits + ")");
+    throw IoError(what + "OpenVDB failed reading it (the reader process ended by " + signal_text(WTERMSIG(status)) +
+                  "; corrupt or hostile file?; " + limits + ")");
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   if (code == 127 && text.empty()) throw IoError(what + "cannot start the reader process '" + exe + "'");
   if (code == 0) return vdb_info_from_json(text);

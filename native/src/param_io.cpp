@@ -84,7 +84,8 @@ std::vector<MaterialValue> parse_material(const json& obj, const std::string& or
       if (it.key() == d.key) decl = &d;
     std::string known;
     for (const MaterialDecl& d : kMaterial) known += (known.empty() ? "" : ", ") + std::string(d.key);
-    if (!decl) throw ParamError(origin + ": unknown material key '" + brief_text(it.key()) + "' (known: " + known + ")");
+    if (!decl)
+      throw ParamError(origin + ": unknown material key '" + brief_text(it.key()) + "' (known: " + known + ")");
     const std::string what = origin + ": material '" + it.key() + "' must be " +
                              (decl->count == 1 ? "a number" : "a list of " + std::to_string(decl->count) + " numbers") +
                              " in [" + shortest(decl->min) + ", " + shortest(decl->max) + "]; got " +

@@ -39,9 +39,9 @@ std::vector<SequenceFrame> parse_sequence(std::string_view text, std::string_vie
         throw ParamError(origin + ": unknown key '" + brief_text(key) + "' in a frame entry (known: frame, params)");
     // Unsigned integers above INT64_MAX are is_number_integer too: compared as unsigned first.
     const json& number = f["frame"];
-    const bool in_range = number.is_number_unsigned() ? number.get<unsigned long long>() <= kMaxFrameNumber
-                                                      : number.get<long long>() >= 0 &&
-                                                            number.get<long long>() <= kMaxFrameNumber;
+    const bool in_range = number.is_number_unsigned()
+                              ? number.get<unsigned long long>() <= kMaxFrameNumber
+                              : number.get<long long>() >= 0 && number.get<long long>() <= kMaxFrameNumber;
     if (!in_range)
       throw ParamError(origin + ": frame numbers must be in [0, " + std::to_string(kMaxFrameNumber) + "]; got " +
                        brief(number));

@@ -32,6 +32,6 @@ for t in params camera sequence vdb_header; do
   "$bin" -seed=1 -runs="$runs" -max_len=16384 -rss_limit_mb=2048 -timeout=20 -malloc_limit_mb=1024 \
     -artifact_prefix="build-fuzz/crashes/$t-" "$@" "$work" "tests/fuzz/corpus/$t" >"build-fuzz/$t.log" 2>&1 \
     || { tail -n 40 "build-fuzz/$t.log"; echo "fuzz_$t: FAILED (reproducer in build-fuzz/crashes/)"; exit 1; }
-  echo "fuzz_$t: ${#regressions[@]} regression inputs, $(grep -Eo 'Done [0-9]+ runs' "build-fuzz/$t.log" || echo "? runs")," \
-    "0 crashes ($(($(date +%s) - start)) s)"
+  done_runs=$(grep -Eo 'Done [0-9]+ runs' "build-fuzz/$t.log" || echo "? runs")
+  echo "fuzz_$t: ${#regressions[@]} regression inputs, $done_runs, 0 crashes ($(($(date +%s) - start)) s)"
 done

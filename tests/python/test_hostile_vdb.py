@@ -13,7 +13,6 @@ import stat
 import subprocess
 
 import pytest
-
 from hostile_vdb import cases, run_info, verdict
 
 REPO_ROOT = pathlib.Path(__file__).resolve().parents[2]
