@@ -92,8 +92,8 @@ auto guarded(const std::string& what, F&& f) -> decltype(f()) {
     return f();
   } catch (const IoError&) {
     throw;
-  } catch (const std::bad_alloc&) {
-    throw;  // the caller says what ran out (the sandboxed reader: its memory limit)
+  } catch (const std::bad_alloc&) {  // in the sandboxed reader: its memory limit
+    throw IoError(what + ": OpenVDB ran out of the memory allowed for reading it (corrupt or hostile file?)");
   } catch (const openvdb::Exception& e) {
     throw IoError(what + ": " + e.what());
   } catch (const std::exception& e) {
