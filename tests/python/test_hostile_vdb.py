@@ -57,7 +57,7 @@ def test_hostile_vdbs_cost_one_error_line(small_bake, tmp_path):
         if v != "clean":
             bad.append(f"{label}: {v}: {err.strip()[:400]}")
     print(f"{n} hostile VDB cases, {len(bad)} not clean")
-    assert n > 80 and not bad, "\n".join(bad)
+    assert n > 50 and not bad, "\n".join(bad)
 
 
 @pytest.mark.parametrize("value", [2, 127, 255])
