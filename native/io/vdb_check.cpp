@@ -124,6 +124,7 @@ std::int64_t check_descriptor(Cursor& c, std::uint32_t version, bool offsets, co
     if (flags > 7) throw Bad{where + " compression flags " + std::to_string(flags) + " are unknown"};
   }
   check_meta_map(c, lim, where + " ('" + clip(name) + "')");
+  c.text(lim.max_name, "a transform type name");  // the transform follows the metadata
   ++sum.grids_checked;
   return offsets ? end_pos : 0;
 }

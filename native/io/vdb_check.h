@@ -8,7 +8,8 @@
 // the header, the file metadata, the grid count and every grid descriptor
 // (names, offsets inside the file), and each grid's metadata that sits at a
 // known place (every grid of a file with offsets, the first grid of a stream):
-// each value's size against its type, bools 0 or 1. The rest (transform, tree,
+// each value's size against its type, bools 0 or 1, and the length of the
+// transform's type name that follows. The rest (transform, tree,
 // values) is read by OpenVDB in a child process with limits (vdb_sandbox.h).
 #pragma once
 

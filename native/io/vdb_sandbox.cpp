@@ -40,9 +40,15 @@ using json = nlohmann::json;
 json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 
-std::string clip(std::string s, std::size_t n = 100) {
-  for (char& c : s)
+// One line, runs of blanks collapsed (OpenVDB pads some messages with hundreds), at most n characters.
+std::string clip(const std::string& in, std::size_t n = 100) {
+  std::string s;
+  for (char c : in) {
     if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    if (c == ' ' && (s.empty() || s.back() == ' ')) continue;
+    s += c;
+  }
+  while (!s.empty() && s.back() == ' ') s.pop_back();
   return s.size() > n ? s.substr(0, n) + "..." : s;
 }
 
@@ -253,6 +259,7 @@ VdbFileInfo read_vdb_info_isolated(const std::string& path, const std::string& h
     const bool memory_limit = errors.find("allocation-size-too-big") != std::string::npos ||
                               errors.find("out-of-memory") != std::string::npos ||
                               errors.find("rss-limit-exceeded") != std::string::npos ||
+                              errors.find("hard rss limit exhausted") != std::string::npos ||
                               errors.find("allocator is out of memory") != std::string::npos;
     if (memory_limit)
       throw IoError(what + "OpenVDB ran out of the memory allowed for reading it (corrupt or hostile file?)");
