@@ -23,6 +23,8 @@ if ((want_tests)); then
   # blender: Debian's 3.4 binary loads our VDBs in a test (it has no OSL); its Python needs numpy, and
   # python3-openvdb (pyopenvdb) is how the add-on writes VDBs inside that Blender
   apt_packages+=(blender python3-numpy python3-openvdb)
+  # clang and its runtime (libFuzzer): the fuzz targets of tests/fuzz
+  apt_packages+=(clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -20,15 +21,18 @@
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
+#include "cloudgen/sequence.h"
 #include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
 namespace {
 
 constexpr long long kMaxResolution = 1000000;
+constexpr float kMinVoxel = 1e-7f;  // smallest voxel edge written (OpenVDB: a scale near 0 is an error)
 
 const char* const kBakeHelp =
     "usage: cloudgen bake (--preset NAME | --params FILE.json | --sequence FILE.json) --output FILE.vdb\n"
@@ -101,31 +105,10 @@ struct Job {
 };
 
 std::vector<Job> sequence_jobs(const std::string& file, const std::string& output) {
-  using json = nlohmann::json;
-  const std::string origin = "--sequence " + file;
-  json doc;
-  try {
-    doc = json::parse(read_text_file(file, "--sequence"));
-  } catch (const json::exception& e) {
-    throw UsageError(origin + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!doc.is_object() || !doc.contains("frames") || !doc["frames"].is_array() || doc["frames"].empty())
-    throw UsageError(origin + ": expected {\"frames\": [{\"frame\": N, \"params\": {...}}, ...]} with at least one frame");
-  for (const auto& [key, value] : doc.items())
-    if (key != "frames" && key != "fps") throw UsageError(origin + ": unknown key '" + key + "'");
+  // Limits, duplicate keys, fps and frame entries: cg::parse_sequence (cloudgen/sequence.h).
   std::vector<Job> jobs;
-  std::map<long long, bool> seen;
-  for (const json& f : doc["frames"]) {
-    if (!f.is_object() || !f.contains("frame") || !f["frame"].is_number_integer() || !f.contains("params") ||
-        !f["params"].is_object())
-      throw UsageError(origin + ": every entry needs an integer \"frame\" and a \"params\" object");
-    const long long n = f["frame"].get<long long>();
-    if (n < 0 || n > 1000000) throw UsageError(origin + ": frame numbers must be in [0, 1000000]; got " + std::to_string(n));
-    if (seen[n]) throw UsageError(origin + ": frame " + std::to_string(n) + " is listed twice");
-    seen[n] = true;
-    jobs.push_back({n, cg::params_from_json(f["params"].dump(), origin + " (frame " + std::to_string(n) + ")"),
-                    cg::frame_path(output, n)});
-  }
+  for (cg::SequenceFrame& f : cg::parse_sequence(read_text_file(file, "--sequence", 64u << 20), "--sequence " + file))
+    jobs.push_back({f.frame, std::move(f.params), cg::frame_path(output, f.frame)});
   return jobs;
 }
 
@@ -163,13 +146,14 @@ std::string stored_bake_key(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return {};
   try {
-    const cgio::VdbFileInfo info = cgio::read_vdb_info(path);
+    // An existing output is untrusted: read in a limited child (io/vdb_sandbox.h).
+    const cgio::VdbFileInfo info = cgio::read_vdb_info_isolated(path);
     for (const cgio::VdbGridInfo& g : info.grids) {
       const auto it = g.metadata.find("cloudgen_bake_key");
       if (g.name == "density" && it != g.metadata.end()) return it->second;
     }
-  } catch (const cgio::IoError&) {
-    // unreadable: bake it again
+  } catch (const std::exception&) {
+    // unreadable, hostile or foreign: bake it again
   }
   return {};
 }
@@ -221,7 +205,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
   std::optional<cg::CameraView> camera;
   if (a.has("--camera")) {
     const std::string file = *a.get("--camera");
-    camera = cg::parse_camera(read_text_file(file, "--camera"), "--camera " + file);
+    camera = cg::parse_camera(read_text_file(file, "--camera", 1u << 20), "--camera " + file);
     if (camera->pixels_per_voxel <= 0.0f && a.has("--quality"))
       camera->pixels_per_voxel = cg::find_tier(*a.get("--quality"))->bake_pixels_per_voxel;
   }
@@ -246,6 +230,12 @@ int cmd_bake(const std::vector<std::string>& argv) {
   const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
   const bool quiet = a.has("--quiet"), update = a.has("--update");
   for (const Job& j : jobs) cgio::check_output_path(j.path);
+  {  // temporaries of killed runs (SIGKILL during a write), once per output directory
+    std::set<std::string> dirs;
+    for (const Job& j : jobs)
+      if (dirs.insert(std::filesystem::path(j.path).parent_path().string()).second)
+        cgio::remove_stale_temporaries(j.path);
+  }
 
   // Per frame: the model, the options (a camera fits them to the frame's box)
   // and the key of what would be written. Memory is checked for every frame
@@ -263,12 +253,32 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (camera) {
       p.fit = cg::fit_camera(p.model, *camera);
       const float longest = std::max({p.model.box[0], p.model.box[1], p.model.box[2]});
+      // Bounded up front: a camera inside the box or a tiny pixel footprint once
+      // hung the estimate or failed at write time ("Non-zero scale values required").
+      const float finest_allowed = longest / float(kMaxResolution);
+      if (p.fit.visible && !have_resolution && !(p.fit.voxel >= finest_allowed)) {
+        char msg[500];
+        std::snprintf(msg, sizeof msg,
+                      "--camera%s: the camera asks for voxels of %g (pixel footprint %g at depth %g), finer than the "
+                      "box's longest side / %lld = %g; move the camera away from (or out of) the box, raise "
+                      "pixels_per_voxel or cap the detail with --resolution N",
+                      job.frame >= 0 ? (" (frame " + std::to_string(job.frame) + ")").c_str() : "", p.fit.voxel,
+                      p.fit.footprint, p.fit.nearest_depth, kMaxResolution, finest_allowed);
+        throw UsageError(msg);
+      }
       const float finest = have_resolution ? longest / float(opts.resolution) : 0.0f;
       p.opts.voxel = std::max(p.fit.voxel, finest);
       p.opts.use_region = true;
       p.opts.region = p.fit.region;
     }
     p.grid = cg::bake_grid(p.model, p.opts);
+    if (!(p.grid.voxel >= kMinVoxel)) {  // OpenVDB's transform refuses scales near 0
+      char msg[300];
+      const std::string what = camera ? "--camera" : "--resolution " + std::to_string(opts.resolution);
+      std::snprintf(msg, sizeof msg, "%s: voxels of %g are smaller than %g scene units; lower --resolution or "
+                    "enlarge the box", what.c_str(), p.grid.voxel, kMinVoxel);
+      throw UsageError(msg);
+    }
     p.key = cg::bake_key(p.model, p.opts, half);
     const double gib = double(cg::estimate_bake_bytes(p.model, p.opts)) / double(1ull << 30);
     if (cancel_requested()) throw cg::Cancelled();  // the estimate may take seconds at huge resolutions

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@
 #include "cloudgen/tiers.h"
 #include "io/atomic_file.h"
 #include "io/vdb_io.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
@@ -26,6 +28,8 @@ std::string one_line(std::string s) {
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
 }
+
+std::string clipped(const std::string& s, std::size_t n) { return s.size() > n ? s.substr(0, n) + "..." : s; }
 
 std::optional<long long> parse_integer(const std::string& s) {
   long long v = 0;
@@ -65,7 +69,9 @@ Args::Args(const std::string& verb, const std::vector<std::string>& argv, const 
     const OptionSpec* spec = nullptr;
     for (const OptionSpec& s : specs)
       if (name == s.name) spec = &s;
-    if (!spec) throw UsageError("unknown option '" + name + "' for '" + verb + "' (see `cloudgen " + verb + " --help`)");
+    if (!spec)
+      throw UsageError("unknown option '" + clipped(name, 100) + "' for '" + verb + "' (see `cloudgen " + verb +
+                       " --help`)");
     if (values_.count(name)) throw UsageError("option '" + name + "' given twice");
     if (!spec->takes_value) {
       if (eq != std::string::npos) throw UsageError("option '" + name + "' takes no value");
@@ -98,7 +104,7 @@ long long Args::integer(const std::string& name, long long lo, long long hi) con
   auto v = get(name);
   if (!v) throw UsageError(name + " is required: " + range);
   const auto x = parse_integer(*v);
-  if (!x || *x < lo || *x > hi) throw UsageError(name + " must be " + range + "; got '" + *v + "'");
+  if (!x || *x < lo || *x > hi) throw UsageError(name + " must be " + range + "; got '" + clipped(*v, 100) + "'");
   return *x;
 }
 
@@ -115,19 +121,27 @@ double Args::number(const std::string& name, double lo, double hi, bool lo_open)
   if (!v) throw UsageError(name + " is required: " + range);
   const auto x = parse_number(*v);
   if (!x || *x < lo || *x > hi || (lo_open && *x == lo))
-    throw UsageError(name + " must be " + range + "; got '" + *v + "'");
+    throw UsageError(name + " must be " + range + "; got '" + clipped(*v, 100) + "'");
   return *x;
 }
 
 // ---- parameters ----
 
-std::string read_text_file(const std::string& path, const std::string& option) {
+std::string read_text_file(const std::string& path, const std::string& option, std::size_t max_bytes) {
+  const std::string what = option + " '" + path + "'";
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UsageError(what + ": a directory, expected a file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(option + " '" + path + "': cannot read (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw UsageError(option + " '" + path + "': read error");
-  return text.str();
+  if (!in) throw UsageError(what + ": cannot read (" + std::strerror(errno) + ")");
+  std::string text;
+  char buf[65536];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    text.append(buf, std::size_t(in.gcount()));
+    if (text.size() > max_bytes)
+      throw UsageError(what + ": larger than " + std::to_string(max_bytes) + " bytes, the limit for this file");
+  }
+  if (in.bad()) throw UsageError(what + ": read error");
+  return text;
 }
 
 void set_time(cg::Params& p, double t, const std::string& option) {
@@ -157,7 +171,7 @@ cg::Params load_params(const Args& args, std::string& preset) {
     return p->params;
   }
   const std::string path = *args.get("--params");
-  const std::string text = read_text_file(path, "--params");
+  const std::string text = read_text_file(path, "--params", 1u << 20);
   preset.clear();
   try {
     return cg::params_from_json(text, "--params " + path);
@@ -303,15 +317,18 @@ static const char* const kInfoHelp =
     "box, minimum and maximum of the active values, and all metadata (for\n"
     "cloudgen files: version, parameters, preset, time, resolution, LOD).\n"
     "  --json   the same as one JSON object\n"
-    "Exit code 1 when the file is missing or not a readable VDB file.\n";
+    "Exit code 1 when the file is missing or not a readable VDB file. The file is\n"
+    "checked first (magic, version, header, descriptors, metadata sizes) and read\n"
+    "by OpenVDB in a child process with memory and time limits\n"
+    "(docs/hostile_inputs.md; CLOUDGEN_VDB_READ_MIB, CLOUDGEN_VDB_READ_SECONDS).\n";
 
 int cmd_info(const std::vector<std::string>& argv) {
   Args a("info", argv, {{"--json", false}});
   if (a.help()) return std::cout << kInfoHelp, kExitOk;
   if (a.positional().size() != 1) throw UsageError("info needs exactly one FILE.vdb argument");
   const std::string path = a.positional()[0];
-  if (cgio::file_size(path) < 0) throw cgio::IoError("cannot read '" + path + "': " + std::strerror(errno));
-  const cgio::VdbFileInfo f = cgio::read_vdb_info(path);
+  // Checked, then read by OpenVDB in a limited child process: a hostile file costs one error line.
+  const cgio::VdbFileInfo f = cgio::read_vdb_info_isolated(path);
   if (a.has("--json")) {
     nlohmann::json doc = {{"file", path}, {"bytes", cgio::file_size(path)}, {"version", f.version},
                           {"compression", f.compression}, {"grids", nlohmann::json::array()}};

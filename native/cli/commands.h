@@ -59,8 +59,9 @@ class Args {
 std::optional<long long> parse_integer(const std::string& s);
 std::optional<double> parse_number(const std::string& s);
 
-// The whole file as text; UsageError naming `option` when it cannot be read.
-std::string read_text_file(const std::string& path, const std::string& option);
+// The whole file as text; UsageError naming `option` when it cannot be read,
+// is a directory or holds more than `max_bytes` (read no further than that).
+std::string read_text_file(const std::string& path, const std::string& option, std::size_t max_bytes);
 
 // The parameters from exactly one of --preset NAME / --params FILE.json
 // (UsageError/ParamError otherwise); `preset` receives the preset's name.
@@ -74,6 +75,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0);
 
 // Collapses a message onto one line.
 std::string one_line(std::string s);
+// At most n characters of s, then "..." (bad values in messages).
+std::string clipped(const std::string& s, std::size_t n);
 
 // ---- verbs: each returns the exit code, throws for errors ----
 int cmd_bake(const std::vector<std::string>& argv);

@@ -14,6 +14,7 @@
 #include "cloudgen/grid.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
+#include "io/vdb_sandbox.h"
 
 namespace cli {
 
@@ -83,7 +84,8 @@ const char* const kUsage =
 namespace {
 
 int fail(int code, const std::string& message) {
-  cli::report_error(code, cli::one_line(message));
+  // Values in messages are clipped where they are quoted; this caps the whole line.
+  cli::report_error(code, cli::clipped(cli::one_line(message), 1000));
   return code;
 }
 
@@ -119,6 +121,8 @@ int run(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The hidden verb of the limited child that reads an untrusted VDB (io/vdb_sandbox.h).
+  if (argc == 3 && std::strcmp(argv[1], cgio::kVdbInfoChildVerb) == 0) return cgio::vdb_info_child_main(argv[2]);
   cli::install_signal_handlers();
   const std::vector<std::string> args(argv + 1, argv + argc);
   try {

@@ -88,6 +88,7 @@ int cmd_preview(const std::vector<std::string>& argv) {
     s.height = static_cast<int>(std::clamp(std::lround(double(s.width) * aspect), 1L, long(kMaxImageSide)));
   }
   cgio::check_output_path(output);
+  cgio::remove_stale_temporaries(output);  // left by a killed run
 
   const auto t0 = std::chrono::steady_clock::now();
   cgio::AtomicFile file(output);

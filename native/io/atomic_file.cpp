@@ -1,11 +1,14 @@
 // io/atomic_file.cpp — temporary file + rename, and the checks before it.
 #include "io/atomic_file.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -121,6 +124,50 @@ void AtomicFile::commit() {
 void remove_temporaries_signal_safe() {
   for (int s = 0; s < kSlots; ++s)
     if (g_state[s].load() == kReady) ::unlink(g_paths[s]);
+}
+
+namespace {
+
+// The PID of an AtomicFile temporary's name, or -1 when the name is not one.
+long temp_pid(const std::string& name) {
+  if (name.size() < 9 || name[0] != '.') return -1;
+  const auto at = name.rfind(".tmp-");
+  if (at == std::string::npos || at < 2) return -1;
+  std::size_t i = at + 5, digits = 0;
+  long pid = 0;
+  for (; i < name.size() && name[i] >= '0' && name[i] <= '9' && digits < 10; ++i, ++digits)
+    pid = pid * 10 + (name[i] - '0');
+  if (digits == 0 || i >= name.size() || name[i] != '-') return -1;
+  std::size_t n = 0;
+  for (++i; i < name.size() && name[i] >= '0' && name[i] <= '9'; ++i) ++n;
+  if (n == 0) return -1;
+  if (i < name.size()) {  // an extension: a dot and letters or digits only
+    if (name[i] != '.' || i + 1 == name.size()) return -1;
+    for (++i; i < name.size(); ++i)
+      if (!std::isalnum(static_cast<unsigned char>(name[i]))) return -1;
+  }
+  return pid;
+}
+
+}  // namespace
+
+int remove_stale_temporaries(const std::string& final_path) {
+  const std::string dir = dir_of(final_path);
+  DIR* d = ::opendir(dir.c_str());
+  if (!d) return 0;
+  int removed = 0;
+  while (const dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    const long pid = temp_pid(name);
+    if (pid <= 0 || pid == long(::getpid())) continue;
+    if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to know): leave it
+    const std::string path = dir + "/" + name;
+    struct stat st{};
+    if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
+    if (::unlink(path.c_str()) == 0) ++removed;
+  }
+  ::closedir(d);
+  return removed;
 }
 
 long long file_size(const std::string& path) {

@@ -68,6 +68,13 @@ class AtomicFile {
 // Unlinks every registered temporary; only async-signal-safe calls.
 void remove_temporaries_signal_safe();
 
+// Temporaries left by a process that was killed (SIGKILL, power loss) before it
+// could remove them: in the directory of `final_path`, files named like an
+// AtomicFile temporary (".STEM.tmp-PID-N[.EXT]"), owned by this user, whose PID
+// is no running process. Removes them and returns how many. Nothing ever reads
+// a temporary; this only keeps them from piling up. Errors are ignored.
+int remove_stale_temporaries(const std::string& final_path);
+
 // Size of a file in bytes, or -1.
 long long file_size(const std::string& path);
 

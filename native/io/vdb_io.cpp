@@ -14,8 +14,12 @@
 
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
+#include "io/vdb_check.h"
 
 namespace cgio {
+
+static_assert(VdbHeaderLimits{}.max_version == openvdb::OPENVDB_FILE_VERSION,
+              "vdb_check.h: the newest file version is this OpenVDB's");
 
 namespace {
 
@@ -89,6 +93,8 @@ auto guarded(const std::string& what, F&& f) -> decltype(f()) {
     return f();
   } catch (const IoError&) {
     throw;
+  } catch (const std::bad_alloc&) {  // in the sandboxed reader: its memory limit
+    throw IoError(what + ": OpenVDB ran out of the memory allowed for reading it (corrupt or hostile file?)");
   } catch (const openvdb::Exception& e) {
     throw IoError(what + ": " + e.what());
   } catch (const std::exception& e) {

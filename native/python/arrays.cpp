@@ -1,6 +1,9 @@
 // arrays.cpp — points in (buffer protocol or numpy.asarray), float32 arrays out.
 #include "arrays.h"
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -69,12 +72,29 @@ static std::vector<float> copy_points(const Py_buffer& v, char format) {
   return out;
 }
 
+// Refuses, before any copy or conversion, more points than half of this
+// machine's memory holds at 16 bytes a point (the float32 copy and the
+// result): a broadcast view of 10^9 points once took 16 GB and minutes.
+static void check_point_count(Py_ssize_t n) {
+  const double pages = double(::sysconf(_SC_PHYS_PAGES)), page = double(::sysconf(_SC_PAGE_SIZE));
+  const double budget = pages > 0 && page > 0 ? pages * page / 2.0 : 8.0 * double(1ull << 30);
+  if (double(n) * 16.0 > budget) {
+    char msg[300];
+    std::snprintf(msg, sizeof msg, "%s: %lld points need %.3g GiB (a float32 copy and the result), more than half "
+                  "of this machine's memory (%.3g GiB); evaluate them in chunks", kPointsExpect, (long long)n,
+                  double(n) * 16.0 / double(1ull << 30), budget / double(1ull << 30));
+    raise(PyExc_MemoryError, msg);
+  }
+}
+
 std::vector<float> points_from_py(PyObject* points) {
   Buffer buffer;
   char format = 0;
   Ref converted;
-  if (PyObject_CheckBuffer(points) && buffer.acquire(points, PyBUF_RECORDS_RO))
+  if (PyObject_CheckBuffer(points) && buffer.acquire(points, PyBUF_RECORDS_RO)) {
     format = native_float_format(buffer.view());
+    if (buffer.view().ndim == 2 && buffer.view().shape[1] == 3) check_point_count(buffer.view().shape[0]);
+  }
   if (!format) {
     // Nested sequences, integer or half arrays, foreign byte order: let numpy convert.
     Ref numpy = import_numpy();
@@ -96,6 +116,7 @@ std::vector<float> points_from_py(PyObject* points) {
   const Py_buffer& v = buffer.view();
   if (v.ndim != 2 || v.shape[1] != 3)
     raise(PyExc_ValueError, std::string(kPointsExpect) + "; got shape " + shape_text(v));
+  check_point_count(v.shape[0]);
   return copy_points(v, format);
 }
 

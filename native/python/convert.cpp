@@ -49,6 +49,11 @@ void set_python_error_from_current_exception() noexcept {
 
 // --------------------------------------------------------------- scalars ---
 
+// At most 100 characters of a name from the caller (a 10 MB key once became a 10 MB message).
+static std::string clip(std::string_view s) {
+  return s.size() > 100 ? std::string(s.substr(0, 100)) + "..." : std::string(s);
+}
+
 std::string repr(PyObject* o) {
   PyObject* r = PyObject_Repr(o);
   if (!r) {
@@ -254,7 +259,7 @@ cg::Params params_from_py(PyObject* obj) {
     const char* name = PyUnicode_AsUTF8AndSize(preset, nullptr);
     if (!name) throw PyErrorSet{};
     const cg::Preset* found = cg::find_preset(name);
-    if (!found) throw cg::ParamError("unknown preset '" + std::string(name) + "' (known: " + preset_names() + ")");
+    if (!found) throw cg::ParamError("unknown preset '" + clip(name) + "' (known: " + preset_names() + ")");
     params = found->params;
   }
   Py_ssize_t pos = 0;
@@ -268,7 +273,7 @@ cg::Params params_from_py(PyObject* obj) {
     if (k == "preset") continue;
     const auto p = cg::find_param(k);
     if (!p)
-      throw cg::ParamError("unknown parameter '" + std::string(k) + "' (see cloudgen_native.parameters())");
+      throw cg::ParamError("unknown parameter '" + clip(k) + "' (see cloudgen_native.parameters())");
     apply_value(params, *p, value);
   }
   return params;

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "json_limits.h"
+
 namespace cg {
 
 namespace {
@@ -19,7 +21,7 @@ double read_number(const json& doc, const char* key, double lo, double hi, const
   const json& v = doc.at(key);
   if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi)
     throw ParamError(where + ": '" + key + "' must be a number in [" + json(lo).dump() + ", " + json(hi).dump() +
-                     "]; got " + v.dump());
+                     "]; got " + brief(v));
   return v.get<double>();
 }
 
@@ -53,22 +55,19 @@ Polygon clip(const Polygon& poly, const Plane& p) {
 
 CameraView parse_camera(std::string_view text, std::string_view origin) {
   const std::string where(origin);
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {
-    throw ParamError(where + ": not valid JSON (" + e.what() + ")");
-  }
+  json doc = parse_json_limited(text, where, kSmallFileLimits);
   if (!doc.is_object()) throw ParamError(where + ": expected a JSON object (see docs/camera.md)");
   static const char* const known[] = {"camera_to_cloud", "tan_half_fov", "resolution", "near",
                                       "margin", "pixels_per_voxel", "type", "light_directions"};
-  for (const auto& [key, value] : doc.items())
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    const std::string& key = it.key();  // not a structured binding: clang 14 cannot capture one
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
-      throw ParamError(where + ": unknown key '" + key + "'");
+      throw ParamError(where + ": unknown key '" + brief_text(key) + "'");
+  }
   for (const char* key : {"camera_to_cloud", "tan_half_fov", "resolution"})
     if (!doc.contains(key)) throw ParamError(where + ": missing '" + key + "'");
   if (doc.contains("type") && doc["type"] != "PERSP")
-    throw ParamError(where + ": only perspective cameras are supported; got type " + doc["type"].dump());
+    throw ParamError(where + ": only perspective cameras are supported; got type " + brief(doc["type"]));
 
   CameraView c;
   const json& m = doc["camera_to_cloud"];
@@ -101,9 +100,9 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
     throw ParamError(where + ": 'tan_half_fov' and 'resolution' must be lists of two numbers");
   for (int i = 0; i < 2; ++i) {
     if (!fov[i].is_number() || !(fov[i].get<double>() >= 1e-4 && fov[i].get<double>() <= 1e4))
-      throw ParamError(where + ": 'tan_half_fov' values must be in [0.0001, 10000]; got " + fov.dump());
+      throw ParamError(where + ": 'tan_half_fov' values must be in [0.0001, 10000]; got " + brief(fov));
     if (!res[i].is_number_integer() || res[i].get<long long>() < 1 || res[i].get<long long>() > 65536)
-      throw ParamError(where + ": 'resolution' values must be integers in [1, 65536]; got " + res.dump());
+      throw ParamError(where + ": 'resolution' values must be integers in [1, 65536]; got " + brief(res));
     c.tan_half_fov[i] = fov[i].get<float>();
     c.resolution[i] = res[i].get<int>();
   }

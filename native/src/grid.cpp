@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <cmath>
 
 #include "cloudgen/density_block.h"
@@ -22,7 +23,10 @@ GridSpec grid_for_voxel(const Model& m, float voxel) {
   GridSpec g{};
   g.voxel = voxel;
   for (int a = 0; a < 3; ++a) {
-    g.n[a] = std::max(1, static_cast<int>(std::ceil(m.box[a] / g.voxel - 1e-4f)));
+    // In double and saturated: a tiny voxel must not overflow int (the memory
+    // guard then refuses the saturated grid, see estimate_bake_bytes).
+    const double n = std::ceil(double(m.box[a]) / double(g.voxel) - 1e-4);
+    g.n[a] = n >= double(kMaxGridAxis) || !(n == n) ? kMaxGridAxis : std::max(1, static_cast<int>(n));
     g.origin[a] = -0.5f * float(g.n[a]) * g.voxel;
   }
   return g;
@@ -79,12 +83,13 @@ TileSpan brick_tiles(std::int64_t total, const BakeOptions& o) {
 
 std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
   const GridSpec g = bake_grid(m, o);
-  const TileSpan span = brick_tiles(tile_count(g), o);
-  const std::int64_t total = span.last - span.first;
+  // Tiles counted in double: 2^27 tiles per axis would overflow int64.
+  const double total_tiles = double(g.tiles(0)) * double(g.tiles(1)) * double(g.tiles(2));
   // Counting candidates one by one is cheap (no noise) up to ~10^8 tiles;
-  // beyond that the worst case (every tile) is the estimate.
-  std::int64_t candidates = total;
-  if ((o.skip_empty || o.use_region) && total <= (std::int64_t(1) << 27)) {
+  // beyond that the worst case (every tile of the brick) is the estimate.
+  double candidates = std::ceil(total_tiles / double(std::max(o.brick_count, 1)));
+  if ((o.skip_empty || o.use_region) && total_tiles <= double(std::int64_t(1) << 27)) {
+    const TileSpan span = brick_tiles(tile_count(g), o);
     candidates = 0;
     for (std::int64_t t = span.first; t < span.last; ++t) {
       const TileRange r = tile_range(g, t);
@@ -95,7 +100,8 @@ std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
   // 4 bytes per voxel in the tile list, ~5.5 bytes per active voxel in an
   // OpenVDB float tree (measured, docs/platform.md), and the tile index.
   const double per_tile = kTileVoxels * (4.0 + 5.5) + 64.0;
-  return static_cast<std::int64_t>(double(candidates) * per_tile);
+  const double bytes = candidates * per_tile;  // saturated: never a negative or wrapped estimate
+  return bytes >= 9.2e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(bytes);
 }
 
 BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) {

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
+#include "json_limits.h"
 #include "cloudgen_presets_data.h"  // generated: kPresetsJson
 #include "cloudgen_version.h"       // generated: kCloudgenVersion
 
@@ -26,17 +27,17 @@ void apply_value(Params& params, P p, const json& v, std::string_view origin) {
   std::vector<float> values;
   auto take = [&](const json& x) {
     if (!x.is_number())
-      throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + x.dump());
+      throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + brief(x));
     const double dv = x.get<double>();
     if (!std::isfinite(dv) || std::fabs(dv) > FLT_MAX)
-      throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + x.dump());
+      throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + brief(x));
     values.push_back(static_cast<float>(dv));
   };
   if (n == 1) {
     take(v);
   } else {
     if (!v.is_array())
-      throw ParamError(where(origin, d.key) + " must be a list of " + describe_range(d) + "; got " + v.dump());
+      throw ParamError(where(origin, d.key) + " must be a list of " + describe_range(d) + "; got " + brief(v));
     for (const json& x : v) take(x);
   }
   try {
@@ -49,7 +50,9 @@ void apply_value(Params& params, P p, const json& v, std::string_view origin) {
 void apply_object(Params& params, const json& obj, std::string_view origin) {
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     const auto p = find_param(it.key());
-    if (!p) throw ParamError(std::string(origin) + ": unknown parameter '" + it.key() + "' (see `cloudgen params`)");
+    if (!p)
+      throw ParamError(std::string(origin) + ": unknown parameter '" + brief_text(it.key()) +
+                       "' (see `cloudgen params`)");
     apply_value(params, *p, it.value(), origin);
   }
 }
@@ -73,7 +76,7 @@ std::string shortest(double v) {
 }
 
 std::vector<MaterialValue> parse_material(const json& obj, const std::string& origin) {
-  if (!obj.is_object()) throw ParamError(origin + ": 'material' must be an object; got " + obj.dump());
+  if (!obj.is_object()) throw ParamError(origin + ": 'material' must be an object; got " + brief(obj));
   std::vector<MaterialValue> out;
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     const MaterialDecl* decl = nullptr;
@@ -81,11 +84,12 @@ std::vector<MaterialValue> parse_material(const json& obj, const std::string& or
       if (it.key() == d.key) decl = &d;
     std::string known;
     for (const MaterialDecl& d : kMaterial) known += (known.empty() ? "" : ", ") + std::string(d.key);
-    if (!decl) throw ParamError(origin + ": unknown material key '" + it.key() + "' (known: " + known + ")");
+    if (!decl)
+      throw ParamError(origin + ": unknown material key '" + brief_text(it.key()) + "' (known: " + known + ")");
     const std::string what = origin + ": material '" + it.key() + "' must be " +
                              (decl->count == 1 ? "a number" : "a list of " + std::to_string(decl->count) + " numbers") +
                              " in [" + shortest(decl->min) + ", " + shortest(decl->max) + "]; got " +
-                             it.value().dump();
+                             brief(it.value());
     MaterialValue value{it.key(), {}};
     const json& v = it.value();
     if (decl->count == 1 ? !v.is_number() : !(v.is_array() && v.size() == static_cast<size_t>(decl->count)))
@@ -169,18 +173,19 @@ const Preset* find_preset(std::string_view name) {
 }
 
 Params params_from_json(std::string_view text, std::string_view origin) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {  // parse errors, and numbers out of range such as 1e999
-    throw ParamError(std::string(origin) + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!doc.is_object()) throw ParamError(std::string(origin) + ": expected a JSON object of parameters");
+  return params_from_value(parse_json_limited(text, std::string(origin), kSmallFileLimits), origin);
+}
+
+Params params_from_value(const json& value, std::string_view origin) {
+  if (!value.is_object()) throw ParamError(std::string(origin) + ": expected a JSON object of parameters");
+  json doc = value;
   Params params;
   if (auto it = doc.find("preset"); it != doc.end()) {
     if (!it->is_string()) throw ParamError(std::string(origin) + ": 'preset' must be a preset name");
     const Preset* preset = find_preset(it->get<std::string>());
-    if (!preset) throw ParamError(std::string(origin) + ": unknown preset '" + it->get<std::string>() + "' (see `cloudgen presets`)");
+    if (!preset)
+      throw ParamError(std::string(origin) + ": unknown preset '" + brief_text(it->get<std::string>()) +
+                       "' (see `cloudgen presets`)");
     params = preset->params;
     doc.erase(it);
   }

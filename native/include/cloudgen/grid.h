@@ -19,6 +19,10 @@ namespace cg {
 constexpr int kTile = 8;
 constexpr int kTileVoxels = kTile * kTile * kTile;
 
+// Voxels per axis are saturated here (grid_for_voxel): a grid that large is
+// refused by the memory estimate before anything is allocated.
+inline constexpr int kMaxGridAxis = 1 << 30;
+
 struct GridSpec {
   int n[3];     // voxels per axis
   float voxel;  // edge length, scene units
@@ -79,7 +83,9 @@ struct BakeResult {
 };
 
 // Worst-case bytes a bake needs (tile storage plus an OpenVDB tree of the
-// tiles that the shape bound cannot prove empty); computed without noise.
+// tiles that the shape bound cannot prove empty); computed without noise, in
+// double, saturated at INT64_MAX (never wraps: --resolution 1000000 once gave
+// a negative estimate and passed the memory check).
 std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& options);
 
 struct Cancelled : std::exception {
