@@ -126,9 +126,16 @@ def params_json(params: dict) -> str:
                       sort_keys=True, separators=(",", ":"))
 
 
-def stored_key(vdb, path: str) -> str:
-    """The cloudgen_bake_key of path's `density` grid ("" when missing or unreadable)."""
-    if not os.path.isfile(path):
+def stored_key(native, vdb, path: str) -> str:
+    """The cloudgen_bake_key of path's `density` grid ("" when missing or unreadable).
+    The file is hostile until checked: cloudgen_native.check_vdb (header, descriptors,
+    metadata; no OpenVDB) must pass before Blender's OpenVDB reads its metadata, so a
+    damaged or crafted file costs "no key" (bake again), never Blender's process."""
+    if not os.path.isfile(path) or native is None:
+        return ""
+    try:
+        native.check_vdb(path)
+    except ValueError:
         return ""
     try:
         for grid in vdb.readAllGridMetadata(path):  # grids without trees
@@ -217,7 +224,7 @@ class LocalBake:
                 grid_n, voxel, origin = grid_spec(params["box_size"], self.settings.resolution)
                 key = bake_key(self.native.field_key(params), grid_n, voxel, self.settings.lod,
                                self.settings.half, self.settings.tolerance)
-                if self.update and stored_key(self.vdb, path) == key:
+                if self.update and stored_key(self.native, self.vdb, path) == key:
                     result.kept.append(path)
                     done.setdefault(key, (path, frame))
                 elif key in done:

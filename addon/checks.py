@@ -100,7 +100,7 @@ def file_field_key(path: str) -> str:
     sig = (path, st.st_mtime_ns, st.st_size)
     if sig not in _file_keys:
         try:
-            key = bake_local.stored_key(bridge.openvdb(), path)
+            key = bake_local.stored_key(bridge.native(), bridge.openvdb(), path)
         except RuntimeError:
             key = ""
         _file_keys[sig] = key.split("-")[0]

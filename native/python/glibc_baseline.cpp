@@ -7,6 +7,8 @@
 // here call what every glibc since 2.2.5 exports:
 //  - pthread_create/join/detach/once, __pthread_key_create: glibc 2.34 moved
 //    libpthread into libc and gave them new versions; the 2.2.5 versions stay;
+//  - fstat (2.33: before, glibc exported only __fxstat, the header called it
+//    with _STAT_VER = 1 on x86-64): the wrapper calls __fxstat@2.2.5;
 //  - arc4random (2.36): only std::random_device uses it, which the module never
 //    constructs; the wrapper reads getrandom (2.25) instead;
 //  - __libc_single_threaded (2.32, libstdc++'s "single threaded?" shortcut): a
@@ -17,6 +19,7 @@
 // tests/python/test_module_portable.py reads the module's dynamic symbol table.
 #include <pthread.h>
 #include <sys/random.h>
+#include <sys/stat.h>
 
 #include <cstdint>
 
@@ -36,6 +39,8 @@ CG_OLD_SYMBOL(cg_pthread_join_2_2_5, pthread_join);
 CG_OLD_SYMBOL(cg_pthread_detach_2_2_5, pthread_detach);
 CG_OLD_SYMBOL(cg_pthread_once_2_2_5, pthread_once);
 CG_OLD_SYMBOL(cg_pthread_key_create_2_2_5, __pthread_key_create);
+int cg_fxstat_2_2_5(int version, int fd, struct stat* buf);
+CG_OLD_SYMBOL(cg_fxstat_2_2_5, __fxstat);
 
 #define CG_HIDDEN __attribute__((visibility("hidden")))
 
@@ -48,6 +53,8 @@ CG_HIDDEN int __wrap_pthread_once(pthread_once_t* once, void (*f)(void)) { retur
 CG_HIDDEN int __wrap___pthread_key_create(pthread_key_t* key, void (*destructor)(void*)) {
   return cg_pthread_key_create_2_2_5(key, destructor);
 }
+
+CG_HIDDEN int __wrap_fstat(int fd, struct stat* buf) { return cg_fxstat_2_2_5(1 /* _STAT_VER */, fd, buf); }
 
 CG_HIDDEN std::uint32_t __wrap_arc4random(void) {
   std::uint32_t v = 0;

@@ -16,6 +16,8 @@
 #include "cloudgen/model.h"
 #include "cloudgen/field_key.h"
 #include "cloudgen/frame_path.h"
+#include "io/atomic_file.h"
+#include "io/vdb_check.h"
 #include "cloudgen/param_io.h"
 #include "cloudgen/tiers.h"
 #include "cloudgen/parallel.h"
@@ -121,6 +123,31 @@ PyObject* py_frame_path(PyObject*, PyObject* args) {
       raise(PyExc_ValueError, "frame must be an integer in [-1000000, 1000000]; got " + std::to_string(frame));
     const std::string path = cg::frame_path(std::string_view(pattern, static_cast<std::size_t>(size)), frame);
     return check(PyUnicode_FromStringAndSize(path.data(), static_cast<Py_ssize_t>(path.size()))).release();
+  });
+}
+
+PyObject* py_check_vdb(PyObject*, PyObject* path_obj) {
+  return guarded([&] {
+    if (!PyUnicode_Check(path_obj)) raise(PyExc_TypeError, "path must be a str");
+    Py_ssize_t size = 0;
+    const char* path = PyUnicode_AsUTF8AndSize(path_obj, &size);
+    if (!path) throw PyErrorSet{};
+    if (size > kMaxPatternBytes) raise(PyExc_ValueError, "path must be at most 4096 bytes");
+    cgio::VdbHeaderSummary summary;
+    std::string error;
+    without_gil([&] {
+      try {
+        summary = cgio::check_vdb_file(std::string(path, static_cast<std::size_t>(size)));
+      } catch (const cgio::IoError& e) {
+        error = e.what();
+      }
+    });
+    if (!error.empty()) raise(PyExc_ValueError, error);
+    Ref dict = check(PyDict_New());
+    set_item(dict.get(), "version", check(PyLong_FromUnsignedLong(summary.version)));
+    set_item(dict.get(), "grids", check(PyLong_FromLongLong(summary.grids)));
+    set_item(dict.get(), "grids_checked", check(PyLong_FromLong(summary.grids_checked)));
+    return dict.release();
   });
 }
 
@@ -276,6 +303,13 @@ PyMethodDef kMethods[] = {
      "{'version': release, 'protocol': N}: the release of this module and the version of\n"
      "the CLI's JSON-lines protocol it was built with (docs/cli_protocol.md). A program\n"
      "that ships the module and the CLI checks once that `cloudgen --version --json` agrees."},
+    {"check_vdb", py_check_vdb, METH_O,
+     "check_vdb(path, /)\n--\n\n"
+     "Cheap checks of a .vdb file before any OpenVDB reads it (no OpenVDB involved):\n"
+     "a regular file (a FIFO is refused at once), magic, file version, header, grid\n"
+     "descriptors and the metadata at known places. Returns {'version', 'grids',\n"
+     "'grids_checked'}; ValueError with a one-line reason for a file to leave alone\n"
+     "(docs/hostile_inputs.md). Releases the GIL."},
     {"frame_path", py_frame_path, METH_VARARGS,
      "frame_path(pattern, frame, /)\n--\n\n"
      "The file of a sequence frame, named exactly as `cloudgen bake` names it: the last\n"

@@ -163,3 +163,22 @@ def test_sequence_copies_equal_fields_and_keeps_unchanged(bake_addon, tmp_path):
     assert (tmp_path / "f_3.vdb").read_bytes() == (tmp_path / "f_1.vdb").read_bytes()
     r = bake_local.LocalBake(native, _vdb(), entries, bake_local.Settings(16), update=True).run()
     assert r.counts() == "0 baked, 0 copied, 3 kept", r
+
+
+HOSTILE = sorted((ROOT / "tests" / "fuzz" / "regressions" / "vdb_header").glob("*.vdb"))
+
+
+@pytest.mark.parametrize("path", HOSTILE, ids=[p.name for p in HOSTILE])
+def test_a_hostile_vdb_never_reaches_blenders_openvdb(bake_addon, path):
+    """A damaged or crafted .vdb in the output folder (the half-float bool byte 2/127/255,
+    format version 0: files that crashed or exhausted OpenVDB 10) is refused by the
+    native checks; Blender's OpenVDB is never asked to read it (exact: no call)."""
+    from cloudgen import bake_local, bridge
+
+    class MustNotRead:
+        def readAllGridMetadata(self, p):  # noqa: N802 - OpenVDB's name
+            raise AssertionError(f"Blender's OpenVDB was asked to read {p}")
+
+    assert bake_local.stored_key(bridge.native(), MustNotRead(), str(path)) == ""
+    with pytest.raises(ValueError, match="cannot read"):
+        bridge.native().check_vdb(str(path))
