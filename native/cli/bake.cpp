@@ -18,6 +18,7 @@
 #include "cloudgen/camera.h"
 #include "cloudgen/field_key.h"
 #include "cloudgen/frame_path.h"
+#include "cloudgen/names.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
@@ -195,7 +196,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (!tier) {
       std::string names;
       for (const cg::Tier& t : cg::tiers()) names += (names.empty() ? "" : ", ") + t.name;
-      throw UsageError("--quality '" + name + "' is not a tier; choose one of: " + names);
+      std::vector<std::string> tier_names;
+      for (const cg::Tier& t : cg::tiers()) tier_names.push_back(t.name);
+      throw UsageError("--quality '" + name.substr(0, 100) + "' is not a tier; choose one of: " + names +
+                       cg::did_you_mean(name, tier_names));
     }
     opts.resolution = tier->bake_resolution;
     opts.lod = tier->bake_lod;

@@ -1,6 +1,7 @@
 // cli/commands.cpp — argument parsing, parameter loading, and the read-only
 // verbs: presets, params, info. (bake and preview live in bake.cpp.)
 #include "cli/commands.h"
+#include "cloudgen/names.h"
 
 #include <cerrno>
 #include <charconv>
@@ -69,9 +70,12 @@ Args::Args(const std::string& verb, const std::vector<std::string>& argv, const 
     const OptionSpec* spec = nullptr;
     for (const OptionSpec& s : specs)
       if (name == s.name) spec = &s;
-    if (!spec)
-      throw UsageError("unknown option '" + clipped(name, 100) + "' for '" + verb + "' (see `cloudgen " + verb +
-                       " --help`)");
+    if (!spec) {
+      std::vector<std::string> names;
+      for (const OptionSpec& s : specs) names.push_back(s.name);
+      throw UsageError("unknown option '" + clipped(name, 100) + "' for '" + verb + "'" +
+                       cg::did_you_mean(name, names) + " (see `cloudgen " + verb + " --help`)");
+    }
     if (values_.count(name)) throw UsageError("option '" + name + "' given twice");
     if (!spec->takes_value) {
       if (eq != std::string::npos) throw UsageError("option '" + name + "' takes no value");
@@ -165,7 +169,8 @@ cg::Params load_params(const Args& args, std::string& preset) {
     if (!p) {
       std::string names;
       for (const cg::Preset& q : cg::presets()) names += (names.empty() ? "" : ", ") + q.name;
-      throw UsageError("--preset '" + name + "' is not a preset; choose one of: " + names);
+      throw UsageError("--preset '" + name.substr(0, 100) + "' is not a preset; choose one of: " + names +
+                       cg::did_you_mean(name, cg::preset_names()));
     }
     preset = p->name;
     return p->params;
@@ -179,7 +184,7 @@ cg::Params load_params(const Args& args, std::string& preset) {
     throw;
   } catch (const std::exception& e) {
     // nlohmann's out_of_range (e.g. 1e999) is not a parse_error and escapes params_from_json.
-    throw UsageError("--params " + path + ": not valid JSON (" + e.what() + ")");
+    throw UsageError("--params " + path + ": not valid JSON (" + cg::json_error_text(e.what()) + ")");
   }
 }
 

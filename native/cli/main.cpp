@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/events.h"
+#include "cloudgen/names.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
@@ -115,7 +116,9 @@ int run(const std::vector<std::string>& args) {
   if (verb == "info") return cmd_info(rest);
   if (verb == "tiers") return cmd_tiers(rest);
   if (verb == "merge") return cmd_merge(rest);
-  throw UsageError("unknown command '" + verb + "'; expected one of bake, merge, preview, presets, tiers, params, info");
+  throw UsageError("unknown command '" + verb.substr(0, 100) +
+                   "'; expected one of bake, merge, preview, presets, tiers, params, info" +
+                   cg::did_you_mean(verb, {"bake", "merge", "preview", "presets", "tiers", "params", "info"}));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // convert.cpp — Python <-> C++ conversions and the one exception translator.
 #include "convert.h"
 
+#include "cloudgen/names.h"
+
 #include <climits>
 #include <cfloat>
 #include <charconv>
@@ -259,7 +261,9 @@ cg::Params params_from_py(PyObject* obj) {
     const char* name = PyUnicode_AsUTF8AndSize(preset, nullptr);
     if (!name) throw PyErrorSet{};
     const cg::Preset* found = cg::find_preset(name);
-    if (!found) throw cg::ParamError("unknown preset '" + clip(name) + "' (known: " + preset_names() + ")");
+    if (!found)
+      throw cg::ParamError("unknown preset '" + clip(name) + "' (known: " + preset_names() + ")" +
+                           cg::did_you_mean(name, cg::preset_names()));
     params = found->params;
   }
   Py_ssize_t pos = 0;
@@ -273,7 +277,8 @@ cg::Params params_from_py(PyObject* obj) {
     if (k == "preset") continue;
     const auto p = cg::find_param(k);
     if (!p)
-      throw cg::ParamError("unknown parameter '" + clip(k) + "' (see cloudgen_native.parameters())");
+      throw cg::ParamError("unknown parameter '" + clip(k) + "'" + cg::did_you_mean(k, cg::param_keys()) +
+                           " (see cloudgen_native.parameters())");
     apply_value(params, *p, value);
   }
   return params;

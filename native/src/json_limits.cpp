@@ -1,6 +1,8 @@
 // json_limits.cpp — limited JSON parsing and brief values for messages.
 #include "json_limits.h"
 
+#include "cloudgen/names.h"
+
 #include <set>
 #include <vector>
 
@@ -97,7 +99,7 @@ json parse_json_limited(std::string_view text, const std::string& origin, const 
   try {
     return json::parse(text.begin(), text.end(), callback);
   } catch (const json::exception& e) {  // parse errors, and numbers out of range such as 1e999
-    throw ParamError(origin + ": not valid JSON (" + brief_text(e.what(), 160) + ")");
+    throw ParamError(origin + ": not valid JSON (" + brief_text(json_error_text(e.what()), 160) + ")");
   }
 }
 

@@ -1,5 +1,6 @@
 // param_io.cpp — presets and JSON parameter files.
 #include "cloudgen/param_io.h"
+#include "cloudgen/names.h"
 
 #include <cfloat>
 #include <cmath>
@@ -51,8 +52,8 @@ void apply_object(Params& params, const json& obj, std::string_view origin) {
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     const auto p = find_param(it.key());
     if (!p)
-      throw ParamError(std::string(origin) + ": unknown parameter '" + brief_text(it.key()) +
-                       "' (see `cloudgen params`)");
+      throw ParamError(std::string(origin) + ": unknown parameter '" + brief_text(it.key()) + "'" +
+                       did_you_mean(it.key(), param_keys()) + " (see `cloudgen params`)");
     apply_value(params, *p, it.value(), origin);
   }
 }
@@ -130,7 +131,7 @@ std::vector<Preset> parse_presets(std::string_view text) {
   try {
     doc = json::parse(text);
   } catch (const json::exception& e) {
-    throw ParamError(std::string("presets: not valid JSON (") + e.what() + ")");
+    throw ParamError(std::string("presets: not valid JSON (") + json_error_text(e.what()) + ")");
   }
   if (!doc.is_object()) throw ParamError("presets: expected a JSON object of presets");
   std::vector<Preset> out;
@@ -168,8 +169,14 @@ const std::vector<Preset>& presets() {
 
 const Preset* find_preset(std::string_view name) {
   for (const Preset& p : presets())
-    if (p.name == name) return &p;
+    if (same_name(p.name, name)) return &p;
   return nullptr;
+}
+
+std::vector<std::string> preset_names() {
+  std::vector<std::string> names;
+  for (const Preset& p : presets()) names.push_back(p.name);
+  return names;
 }
 
 Params params_from_json(std::string_view text, std::string_view origin) {
@@ -184,8 +191,8 @@ Params params_from_value(const json& value, std::string_view origin) {
     if (!it->is_string()) throw ParamError(std::string(origin) + ": 'preset' must be a preset name");
     const Preset* preset = find_preset(it->get<std::string>());
     if (!preset)
-      throw ParamError(std::string(origin) + ": unknown preset '" + brief_text(it->get<std::string>()) +
-                       "' (see `cloudgen presets`)");
+      throw ParamError(std::string(origin) + ": unknown preset '" + brief_text(it->get<std::string>()) + "'" +
+                       did_you_mean(it->get<std::string>(), preset_names()) + " (see `cloudgen presets`)");
     params = preset->params;
     doc.erase(it);
   }

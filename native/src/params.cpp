@@ -1,6 +1,8 @@
 // params.cpp — the parameter table (expanded from param_list.h) and validation.
 #include "cloudgen/params.h"
 
+#include "cloudgen/names.h"
+
 #include <cmath>
 #include <charconv>
 #include <string>
@@ -42,6 +44,12 @@ int slot_of(P p) {
 }
 
 int slot_count() { return slot_of(PARAM_COUNT); }
+
+std::vector<std::string> param_keys() {
+  std::vector<std::string> keys;
+  for (const ParamDecl& d : kParams) keys.push_back(d.key);
+  return keys;
+}
 
 std::optional<P> find_param(std::string_view key) {
   for (int i = 0; i < PARAM_COUNT; ++i)
@@ -103,7 +111,9 @@ void Params::set(P p, const float* components, int count) {
 
 void Params::set(std::string_view key, const float* components, int count) {
   const auto p = find_param(key);
-  if (!p) throw ParamError("unknown parameter '" + std::string(key) + "' (see `cloudgen params`)");
+  if (!p)
+    throw ParamError("unknown parameter '" + std::string(key.substr(0, 100)) + "'" + did_you_mean(key, param_keys()) +
+                     " (see `cloudgen params`)");
   set(*p, components, count);
 }
 

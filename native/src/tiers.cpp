@@ -1,6 +1,8 @@
 // tiers.cpp — parsing and checking the quality tiers data file.
 #include "cloudgen/tiers.h"
 
+#include "cloudgen/names.h"
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -52,7 +54,7 @@ std::vector<Tier> parse_tiers(std::string_view text) {
   try {
     doc = json::parse(text);
   } catch (const json::exception& e) {
-    throw ParamError(std::string("tiers: not valid JSON (") + e.what() + ")");
+    throw ParamError(std::string("tiers: not valid JSON (") + json_error_text(e.what()) + ")");
   }
   if (!doc.is_object() || doc.empty()) throw ParamError("tiers: expected a non-empty object of tiers");
   std::vector<Tier> out;
@@ -93,7 +95,7 @@ const std::vector<Tier>& tiers() {
 
 const Tier* find_tier(std::string_view name) {
   for (const Tier& t : tiers())
-    if (t.name == name) return &t;
+    if (same_name(t.name, name)) return &t;
   return nullptr;
 }
 

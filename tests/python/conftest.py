@@ -42,3 +42,16 @@ def inputs(tmp_path):
         p.write_text(content if isinstance(content, str) else json.dumps(content))
         return p
     return make
+
+
+@pytest.fixture
+def params_file(tmp_path):
+    """Writes a parameter file (text as given, so it may be malformed) outside the output dir."""
+    holder = tmp_path / "params"
+    holder.mkdir()
+
+    def make(text, name="p.json"):
+        p = holder / name
+        p.write_text(text)
+        return p
+    return make

@@ -77,19 +77,6 @@ def png_size(path):
     return struct.unpack(">II", data[16:24])
 
 
-@pytest.fixture
-def params_file(tmp_path):
-    """Writes a parameter file (text as given, so it may be malformed) outside the output dir."""
-    holder = tmp_path / "params"
-    holder.mkdir()
-
-    def make(text, name="p.json"):
-        p = holder / name
-        p.write_text(text)
-        return p
-    return make
-
-
 # ------------------------------------------------------------------ usage ---
 
 def test_help_texts():

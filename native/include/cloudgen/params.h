@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cloudgen/shared/cloud_model.h"
 
@@ -55,6 +56,7 @@ constexpr int component_count(Kind k) {
 }
 int slot_of(P p);       // first slot of parameter p in Params::values
 int slot_count();       // total number of slots
+std::vector<std::string> param_keys();  // every parameter's key, in order (for messages)
 std::optional<P> find_param(std::string_view key);
 
 // Error for a bad parameter: what() names the parameter and the accepted range.
