@@ -42,6 +42,8 @@ except ImportError:  # loaded by its path (tests/addon_bake/test_bake_process.py
 
 OK, IO_ERROR, BAD_ARGUMENT, CANCELLED = 0, 1, 2, 130
 _KIND = {IO_ERROR: "I/O error", BAD_ARGUMENT: "bad argument", CANCELLED: "cancelled"}
+_TEMP_SOURCES = {"params": "the cloud's settings", "sequence": "the cloud's keyframed settings",
+                 "camera": "the Fit to Camera data"}
 
 
 @dataclass
@@ -123,6 +125,7 @@ class BakeJob:
         self.camera = camera
         self._proc = None
         self._temp_files: dict = {}
+        self._temp_names: dict = {}  # kind -> path, kept after the files are removed (messages)
         self._threads: list = []
         self._cancel_requested = False
         self._result = None
@@ -147,6 +150,7 @@ class BakeJob:
     def _write_temp(self, kind, data):
         fd, path = tempfile.mkstemp(prefix=f"cloudgen-{kind}-", suffix=".json")
         self._temp_files[kind] = path
+        self._temp_names[kind] = path
         with os.fdopen(fd, "w") as f:
             json.dump(data, f)
         return path
@@ -259,6 +263,10 @@ class BakeJob:
             errors = [ln for ln in self.stderr_lines if ln.strip()]
             text = errors[-1] if errors else f"cloudgen bake exited with code {code}"
             text = re.sub(r"^cloudgen: (error: )?", "", text)
+        # The CLI names the file a value came from; ours are temporary files nobody
+        # has seen: say whose values they are instead.
+        for kind, path in self._temp_names.items():
+            text = text.replace(f"--{kind} {path}", _TEMP_SOURCES.get(kind, f"the {kind} file"))
         return f"{_KIND.get(code, 'error')}: {text}"
 
     def _verified(self, result):

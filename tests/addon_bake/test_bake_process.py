@@ -123,6 +123,9 @@ def test_bad_parameter_is_reported_in_one_line(tmp_path):
         bp.run_bake(CLI, {"preset": "cumulus", "density": -5}, 8, str(tmp_path / "c.vdb"))
     assert err.value.code == bp.BAD_ARGUMENT
     assert "density" in str(err.value) and "\n" not in str(err.value)
+    # named as the artist knows it, not as the temporary parameter file nobody has seen
+    assert "the cloud's settings: parameter 'density'" in str(err.value), str(err.value)
+    assert "cloudgen-params-" not in str(err.value), str(err.value)
     assert files_in(tmp_path) == []
 
 
