@@ -31,8 +31,8 @@
 #include "cloudgen/density_block.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
-#include "cloudgen/param_io.h"
 #include "cloudgen/parallel.h"
+#include "cloudgen/param_io.h"
 #include "cloudgen/params.h"
 
 using json = nlohmann::ordered_json;
@@ -82,26 +82,38 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     try {
-      if (a == "--reps") o.reps = std::max(1, std::stoi(value()));
-      else if (a == "--points") o.points = std::max<long long>(4096, std::stoll(value()));
-      else if (a == "--resolutions") o.resolutions = parse_ints(value());
-      else if (a == "--json") o.json_path = value();
-      else if (a == "--callgrind-samples") o.callgrind_samples = std::stoll(value());
-      else if (a == "--kernel") o.kernel = value();
-      else if (a == "--config") o.config = value();
-      else if (a == "--quick") { o.reps = 2; o.points = 1 << 14; o.resolutions = {64}; }
-      else if (a == "--only") {
+      if (a == "--reps")
+        o.reps = std::max(1, std::stoi(value()));
+      else if (a == "--points")
+        o.points = std::max<long long>(4096, std::stoll(value()));
+      else if (a == "--resolutions")
+        o.resolutions = parse_ints(value());
+      else if (a == "--json")
+        o.json_path = value();
+      else if (a == "--callgrind-samples")
+        o.callgrind_samples = std::stoll(value());
+      else if (a == "--kernel")
+        o.kernel = value();
+      else if (a == "--config")
+        o.config = value();
+      else if (a == "--quick") {
+        o.reps = 2;
+        o.points = 1 << 14;
+        o.resolutions = {64};
+      } else if (a == "--only") {
         const std::string v = value();
         o.samples = v.find("samples") != std::string::npos;
         o.bake = v.find("bake") != std::string::npos;
         o.preview = v.find("preview") != std::string::npos;
       } else if (a == "--help" || a == "-h") {
-        std::puts("cloudgen_bench [--reps N] [--points N] [--only samples,bake,preview] [--resolutions 128,256]\n"
-                  "               [--json FILE] [--quick]\n"
-                  "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley|block_LEVEL]\n"
-                  "               [--config defaults|cumulus]");
+        std::puts(
+            "cloudgen_bench [--reps N] [--points N] [--only samples,bake,preview] [--resolutions 128,256]\n"
+            "               [--json FILE] [--quick]\n"
+            "cloudgen_bench --callgrind-samples K [--kernel full|noise|perlin|worley|block_LEVEL]\n"
+            "               [--config defaults|cumulus]");
         std::exit(0);
-      } else usage_error("unknown argument " + a);
+      } else
+        usage_error("unknown argument " + a);
     } catch (const std::invalid_argument&) {
       usage_error("bad number after " + a);
     }
@@ -134,11 +146,16 @@ enum class Kernel { Full, Noise, Perlin, Worley, Block };
 
 const char* kernel_name(Kernel k) {
   switch (k) {
-    case Kernel::Full: return "density";
-    case Kernel::Noise: return "noise_at";
-    case Kernel::Perlin: return "perlin_fbm";
-    case Kernel::Worley: return "worley_fbm";
-    case Kernel::Block: return "density_block";
+    case Kernel::Full:
+      return "density";
+    case Kernel::Noise:
+      return "noise_at";
+    case Kernel::Perlin:
+      return "perlin_fbm";
+    case Kernel::Worley:
+      return "worley_fbm";
+    case Kernel::Block:
+      return "density_block";
   }
   return "?";
 }
@@ -149,8 +166,8 @@ inline float perlin_part(const cg::Model& m, cg::vec3 p) {
                            m.noise_whisp, m.seed);
 }
 inline float worley_part(const cg::Model& m, cg::vec3 p) {
-  return cg::cg_worley_fbm(p * m.worley_frequency + m.worley_offset, CG_WORLEY_OCTAVES, CG_MAX_OCTAVES,
-                           m.worley_clump, m.seed ^ CG_SEED_SALT_WORLEY);
+  return cg::cg_worley_fbm(p * m.worley_frequency + m.worley_offset, CG_WORLEY_OCTAVES, CG_MAX_OCTAVES, m.worley_clump,
+                           m.seed ^ CG_SEED_SALT_WORLEY);
 }
 
 template <class F>
@@ -167,16 +184,26 @@ float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, i
                cg::SimdLevel level = cg::SimdLevel::Scalar) {
   constexpr std::int64_t kChunk = 4096;
   const std::int64_t chunks = (std::int64_t(pts.size()) + kChunk - 1) / kChunk;
-  struct alignas(64) Partial { float sum = 0.0f; };
+  struct alignas(64) Partial {
+    float sum = 0.0f;
+  };
   std::vector<Partial> partial(std::max(threads, 1));
   cg::parallel_for(chunks, threads, [&](std::int64_t c, int worker) {
     const std::size_t lo = std::size_t(c * kChunk), hi = std::min(pts.size(), std::size_t(lo + kChunk));
     float s = 0.0f;
     switch (k) {
-      case Kernel::Full: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return cg::density(m, p); }); break;
-      case Kernel::Noise: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return cg::noise_at(m, p); }); break;
-      case Kernel::Perlin: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return perlin_part(m, p); }); break;
-      case Kernel::Worley: s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return worley_part(m, p); }); break;
+      case Kernel::Full:
+        s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return cg::density(m, p); });
+        break;
+      case Kernel::Noise:
+        s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return cg::noise_at(m, p); });
+        break;
+      case Kernel::Perlin:
+        s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return perlin_part(m, p); });
+        break;
+      case Kernel::Worley:
+        s = sum_over(pts, lo, hi, [&](cg::vec3 p) { return worley_part(m, p); });
+        break;
       case Kernel::Block: {
         float out[kChunk];
         cg::density_block(level, m, &pts[lo], hi - lo, cg::kNoLod, out);
@@ -192,8 +219,11 @@ float evaluate(const cg::Model& m, const std::vector<cg::vec3>& pts, Kernel k, i
 }
 
 json timing_json(const cgbench::Timing& t) {
-  return json{{"best_s", t.best()}, {"median_s", t.median()}, {"runs_s", t.seconds},
-              {"cpu_best_s", t.cpu_best()}, {"cpu_runs_s", t.cpu_seconds}};
+  return json{{"best_s", t.best()},
+              {"median_s", t.median()},
+              {"runs_s", t.seconds},
+              {"cpu_best_s", t.cpu_best()},
+              {"cpu_runs_s", t.cpu_seconds}};
 }
 
 json bench_samples(const Options& o) {
@@ -205,12 +235,15 @@ json bench_samples(const Options& o) {
     double rejected = 0.0;
     const auto noisy = cgbench::box_points(m, o.points, 0xC10D, true, &rejected);
     const auto plain = cgbench::box_points(m, o.points, 0xC10D, false);
-    struct Case { const char* name; Kernel k; const std::vector<cg::vec3>* pts; std::vector<int> threads; };
+    struct Case {
+      const char* name;
+      Kernel k;
+      const std::vector<cg::vec3>* pts;
+      std::vector<int> threads;
+    };
     const Case cases[] = {
-        {"density (noise needed)", Kernel::Full, &noisy, {1, 2}},
-        {"noise_at only", Kernel::Noise, &noisy, {1, 2}},
-        {"  perlin fBm part", Kernel::Perlin, &noisy, {1}},
-        {"  worley fBm part", Kernel::Worley, &noisy, {1}},
+        {"density (noise needed)", Kernel::Full, &noisy, {1, 2}}, {"noise_at only", Kernel::Noise, &noisy, {1, 2}},
+        {"  perlin fBm part", Kernel::Perlin, &noisy, {1}},       {"  worley fBm part", Kernel::Worley, &noisy, {1}},
         {"density (whole box)", Kernel::Full, &plain, {1, 2}},
     };
     for (const Case& c : cases)
@@ -219,8 +252,10 @@ json bench_samples(const Options& o) {
         const double n = double(c.pts->size());
         std::printf("%-9s %-22s %3d %12s %12s %10.0f\n", config, c.name, threads, si(n / t.best()).c_str(),
                     si(n / t.median()).c_str(), 1e9 * t.best() / n);
-        json row{{"config", config}, {"kernel", kernel_name(c.k)},
-                 {"points", c.pts == &noisy ? "noise_needed" : "whole_box"}, {"threads", threads},
+        json row{{"config", config},
+                 {"kernel", kernel_name(c.k)},
+                 {"points", c.pts == &noisy ? "noise_needed" : "whole_box"},
+                 {"threads", threads},
                  {"count", c.pts->size()}};
         row.update(timing_json(t));
         row["samples_per_s_best"] = n / t.best();
@@ -234,14 +269,14 @@ json bench_samples(const Options& o) {
       const cg::SimdLevel level = cg::SimdLevel(l);
       if (!cg::simd_level_supported(level)) continue;
       for (int threads : {1, 2}) {
-        const cgbench::Timing t = cgbench::time_reps(
-            o.reps, [&] { cgbench::sink(evaluate(m, noisy, Kernel::Block, threads, level)); });
+        const cgbench::Timing t =
+            cgbench::time_reps(o.reps, [&] { cgbench::sink(evaluate(m, noisy, Kernel::Block, threads, level)); });
         const double n = double(noisy.size());
         const std::string name = std::string("density_block ") + cg::simd_level_name(level);
         std::printf("%-9s %-22s %3d %12s %12s %10.0f\n", config, name.c_str(), threads, si(n / t.best()).c_str(),
                     si(n / t.median()).c_str(), 1e9 * t.best() / n);
-        json row{{"config", config}, {"kernel", "density_block"}, {"level", cg::simd_level_name(level)},
-                 {"points", "noise_needed"}, {"threads", threads}, {"count", noisy.size()}};
+        json row{{"config", config},         {"kernel", "density_block"}, {"level", cg::simd_level_name(level)},
+                 {"points", "noise_needed"}, {"threads", threads},        {"count", noisy.size()}};
         row.update(timing_json(t));
         row["samples_per_s_best"] = n / t.best();
         row["samples_per_s_median"] = n / t.median();
@@ -267,10 +302,14 @@ json bench_bake(const Options& o) {
   const cg::Model m = cg::prepare(config_params("cumulus"));
   const int hw = cg::resolve_threads(0);
   std::printf("\n== Bake (cumulus, box 4 x 4 x 3; voxels/s counts every voxel of the box grid) ==\n");
-  std::printf("%5s %-11s %3s %9s %9s %12s %9s %12s %8s\n", "res", "mode", "thr", "best s", "median s",
-              "evaluated", "active %", "voxels/s", "vs GN");
-  struct Mode { const char* name; bool skip, lod; };
-  const Mode modes[] = {{"dense", false, false}, {"sparse", true, false}, {"lod", false, true}, {"sparse+lod", true, true}};
+  std::printf("%5s %-11s %3s %9s %9s %12s %9s %12s %8s\n", "res", "mode", "thr", "best s", "median s", "evaluated",
+              "active %", "voxels/s", "vs GN");
+  struct Mode {
+    const char* name;
+    bool skip, lod;
+  };
+  const Mode modes[] = {
+      {"dense", false, false}, {"sparse", true, false}, {"lod", false, true}, {"sparse+lod", true, true}};
   for (int res : o.resolutions) {
     std::vector<int> thread_counts{hw};
     if (hw != 1 && res <= 128) thread_counts.insert(thread_counts.begin(), 1);
@@ -298,8 +337,8 @@ json bench_bake(const Options& o) {
         std::printf("%5d %-11s %3d %9.3f %9.3f %12lld %8.1f%% %12s %7.1fx\n", res, mode.name, threads, t.best(),
                     t.median(), (long long)stats.voxels_evaluated, 100.0 * active, si(vps).c_str(),
                     vps / kGeometryNodesVoxelsPerS);
-        json row{{"resolution", res}, {"mode", mode.name}, {"skip_empty", mode.skip}, {"lod", mode.lod},
-                 {"threads", threads}, {"grid_voxels", grid_voxels}};
+        json row{{"resolution", res}, {"mode", mode.name},  {"skip_empty", mode.skip},
+                 {"lod", mode.lod},   {"threads", threads}, {"grid_voxels", grid_voxels}};
         row.update(timing_json(t));
         row["voxels_per_s_best"] = vps;
         row["vs_geometry_nodes"] = vps / kGeometryNodesVoxelsPerS;
@@ -342,8 +381,8 @@ json bench_preview(const Options& o) {
         });
         std::printf("%-9s %-4s %3d %9.2f %9.2f\n", config, lod ? "yes" : "no", threads, 1e3 * t.best(),
                     1e3 * t.median());
-        json row{{"config", config}, {"width", 256}, {"height", 256}, {"axis", "y"}, {"offset", 0.5},
-                 {"lod", lod}, {"threads", threads}};
+        json row{{"config", config}, {"width", 256}, {"height", 256},     {"axis", "y"},
+                 {"offset", 0.5},    {"lod", lod},   {"threads", threads}};
         row.update(timing_json(t));
         row["ms_best"] = 1e3 * t.best();
         row["ms_median"] = 1e3 * t.median();
@@ -364,8 +403,10 @@ int run_callgrind_mode(const Options& o) {
   auto run = [&](auto f) {
     for (long long i = 0; i < o.callgrind_samples; ++i) s += f(pts[std::size_t(i % (long long)pts.size())]);
   };
-  if (o.kernel == "full") run([&](cg::vec3 p) { return cg::density(m, p); });
-  else if (o.kernel == "noise") run([&](cg::vec3 p) { return cg::noise_at(m, p); });
+  if (o.kernel == "full")
+    run([&](cg::vec3 p) { return cg::density(m, p); });
+  else if (o.kernel == "noise")
+    run([&](cg::vec3 p) { return cg::noise_at(m, p); });
   else if (o.kernel.rfind("block_", 0) == 0) {
     cg::SimdLevel level = cg::SimdLevel::Scalar;
     cg::parse_simd_level(o.kernel.c_str() + 6, level);
@@ -380,8 +421,10 @@ int run_callgrind_mode(const Options& o) {
       cg::density_block(level, m, &pts[std::size_t(i % (long long)pts.size())], std::size_t(n), cg::kNoLod, out);
       for (long long j = 0; j < n; ++j) s += out[j];
     }
-  } else if (o.kernel == "perlin") run([&](cg::vec3 p) { return perlin_part(m, p); });
-  else run([&](cg::vec3 p) { return worley_part(m, p); });
+  } else if (o.kernel == "perlin")
+    run([&](cg::vec3 p) { return perlin_part(m, p); });
+  else
+    run([&](cg::vec3 p) { return worley_part(m, p); });
   cgbench::sink(s);
   std::printf("%s %s: %lld samples, sum %g\n", o.config.c_str(), o.kernel.c_str(), o.callgrind_samples, double(s));
   return 0;

@@ -9,9 +9,7 @@
 
 namespace cgbench {
 
-double Timing::best() const {
-  return seconds.empty() ? 0.0 : *std::min_element(seconds.begin(), seconds.end());
-}
+double Timing::best() const { return seconds.empty() ? 0.0 : *std::min_element(seconds.begin(), seconds.end()); }
 
 double Timing::cpu_best() const {
   return cpu_seconds.empty() ? 0.0 : *std::min_element(cpu_seconds.begin(), cpu_seconds.end());
@@ -87,9 +85,16 @@ std::vector<cg::vec3> box_points(const cg::Model& m, std::size_t count, std::uin
 std::string si(double v, int precision) {
   const char* suffix = "";
   double x = v;
-  if (std::fabs(v) >= 1e9) { x = v / 1e9; suffix = " G"; }
-  else if (std::fabs(v) >= 1e6) { x = v / 1e6; suffix = " M"; }
-  else if (std::fabs(v) >= 1e3) { x = v / 1e3; suffix = " k"; }
+  if (std::fabs(v) >= 1e9) {
+    x = v / 1e9;
+    suffix = " G";
+  } else if (std::fabs(v) >= 1e6) {
+    x = v / 1e6;
+    suffix = " M";
+  } else if (std::fabs(v) >= 1e3) {
+    x = v / 1e3;
+    suffix = " k";
+  }
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g%s", precision, x, suffix);
   return buf;

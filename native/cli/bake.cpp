@@ -10,17 +10,17 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "cli/commands.h"
 #include "cli/events.h"
 #include "cloudgen/camera.h"
 #include "cloudgen/field_key.h"
 #include "cloudgen/frame_path.h"
-#include "cloudgen/names.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
+#include "cloudgen/names.h"
 #include "cloudgen/param_io.h"
 #include "cloudgen/sequence.h"
 #include "cloudgen/tiers.h"
@@ -174,12 +174,12 @@ void copy_atomically(const std::string& from, const std::string& to) {
 int cmd_bake(const std::vector<std::string>& argv) {
   // before parsing: a bad argument is reported as an `error` event too
   if (std::find(argv.begin(), argv.end(), "--json") != argv.end()) set_output_mode(OutputMode::Json);
-  Args a("bake", argv,
-         {{"--preset", true}, {"--params", true}, {"--sequence", true}, {"--resolution", true},
-          {"--quality", true}, {"--camera", true}, {"--output", true}, {"--time", true}, {"--frames", true},
-          {"--fps", true}, {"--update", false}, {"--tolerance", true}, {"--no-skip", false}, {"--no-lod", false},
-          {"--threads", true}, {"--half", false}, {"--max-memory", true}, {"--quiet", false}, {"--json", false},
-          {"--brick", true}, {"--dry-run", false}});
+  Args a("bake", argv, {{"--preset", true},     {"--params", true},  {"--sequence", true}, {"--resolution", true},
+                        {"--quality", true},    {"--camera", true},  {"--output", true},   {"--time", true},
+                        {"--frames", true},     {"--fps", true},     {"--update", false},  {"--tolerance", true},
+                        {"--no-skip", false},   {"--no-lod", false}, {"--threads", true},  {"--half", false},
+                        {"--max-memory", true}, {"--quiet", false},  {"--json", false},    {"--brick", true},
+                        {"--dry-run", false}});
   if (a.help()) return std::cout << kBakeHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
 
@@ -214,8 +214,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
       camera->pixels_per_voxel = cg::find_tier(*a.get("--quality"))->bake_pixels_per_voxel;
   }
   const bool have_resolution = a.has("--resolution");
-  if (have_resolution) opts.resolution = static_cast<int>(a.integer("--resolution", 1, kMaxResolution));
-  else if (!a.has("--quality") && !camera) throw UsageError("give --resolution N (or --quality TIER or --camera FILE)");
+  if (have_resolution)
+    opts.resolution = static_cast<int>(a.integer("--resolution", 1, kMaxResolution));
+  else if (!a.has("--quality") && !camera)
+    throw UsageError("give --resolution N (or --quality TIER or --camera FILE)");
   if (a.has("--tolerance")) opts.tolerance = static_cast<float>(a.number("--tolerance", 0.0, 1.0e30));
   if (a.has("--threads")) opts.threads = static_cast<int>(a.integer("--threads", 0, 1024));
   if (a.has("--brick")) {
@@ -279,8 +281,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (!(p.grid.voxel >= kMinVoxel)) {  // OpenVDB's transform refuses scales near 0
       char msg[300];
       const std::string what = camera ? "--camera" : "--resolution " + std::to_string(opts.resolution);
-      std::snprintf(msg, sizeof msg, "%s: voxels of %g are smaller than %g scene units; lower --resolution or "
-                    "enlarge the box", what.c_str(), p.grid.voxel, kMinVoxel);
+      std::snprintf(msg, sizeof msg,
+                    "%s: voxels of %g are smaller than %g scene units; lower --resolution or "
+                    "enlarge the box",
+                    what.c_str(), p.grid.voxel, kMinVoxel);
       throw UsageError(msg);
     }
     p.key = cg::bake_key(p.model, p.opts, half);
@@ -333,9 +337,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
             {"tiles", {span.first, span.last}},
             {"tiles_in_grid", total},
             {"whole_key", cg::bake_key(first.model, whole, half)}},
-           quiet ? "" : "brick " + std::to_string(opts.brick_index) + "/" + std::to_string(opts.brick_count) +
-                            ": tiles " + std::to_string(span.first) + " to " + std::to_string(span.last - 1) +
-                            " of " + std::to_string(total));
+           quiet ? ""
+                 : "brick " + std::to_string(opts.brick_index) + "/" + std::to_string(opts.brick_count) + ": tiles " +
+                       std::to_string(span.first) + " to " + std::to_string(span.last - 1) + " of " +
+                       std::to_string(total));
     }
     if (camera) {
       const cg::CameraFit& fit = first.fit;

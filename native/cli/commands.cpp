@@ -119,8 +119,8 @@ static std::string fmt_num(double v) {
 }
 
 double Args::number(const std::string& name, double lo, double hi, bool lo_open) const {
-  const std::string range = "a finite number in " + std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " +
-                            fmt_num(hi) + "]";
+  const std::string range =
+      "a finite number in " + std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) + "]";
   auto v = get(name);
   if (!v) throw UsageError(name + " is required: " + range);
   const auto x = parse_number(*v);
@@ -248,10 +248,11 @@ int cmd_tiers(const std::vector<std::string>& argv) {
   }
   for (const cg::Tier& t : cg::tiers()) {
     std::printf("%-8s %s\n", t.name.c_str(), t.description.c_str());
-    std::printf("%-8s render: %d samples, step rate %g; bake: resolution %d, lod %s, tolerance %g, %s floats, "
-                "%g px/voxel with --camera; preview %d px\n",
-                "", t.render_samples, t.render_step_rate, t.bake_resolution, t.bake_lod ? "on" : "off",
-                t.bake_tolerance, t.bake_half ? "half" : "full", t.bake_pixels_per_voxel, t.preview_size);
+    std::printf(
+        "%-8s render: %d samples, step rate %g; bake: resolution %d, lod %s, tolerance %g, %s floats, "
+        "%g px/voxel with --camera; preview %d px\n",
+        "", t.render_samples, t.render_step_rate, t.bake_resolution, t.bake_lod ? "on" : "off", t.bake_tolerance,
+        t.bake_half ? "half" : "full", t.bake_pixels_per_voxel, t.preview_size);
   }
   return kExitOk;
 }
@@ -306,8 +307,8 @@ int cmd_params(const std::vector<std::string>& argv) {
     if (def.size() > 16) def.replace(13, std::string::npos, "...");
     std::string range("[");
     range.append(fmt_num(d.min)).append(", ").append(fmt_num(d.max)).append("]");
-    std::printf("  %-18s %-6s %-16s %-22s %s — %s\n", d.key, cg::kind_name(d.kind), def.c_str(), range.c_str(),
-                d.unit, d.help);
+    std::printf("  %-18s %-6s %-16s %-22s %s — %s\n", d.key, cg::kind_name(d.kind), def.c_str(), range.c_str(), d.unit,
+                d.help);
   }
   return kExitOk;
 }
@@ -335,20 +336,32 @@ int cmd_info(const std::vector<std::string>& argv) {
   // Checked, then read by OpenVDB in a limited child process: a hostile file costs one error line.
   const cgio::VdbFileInfo f = cgio::read_vdb_info_isolated(path);
   if (a.has("--json")) {
-    nlohmann::json doc = {{"file", path}, {"bytes", cgio::file_size(path)}, {"version", f.version},
-                          {"compression", f.compression}, {"grids", nlohmann::json::array()}};
+    nlohmann::json doc = {{"file", path},
+                          {"bytes", cgio::file_size(path)},
+                          {"version", f.version},
+                          {"compression", f.compression},
+                          {"grids", nlohmann::json::array()}};
     for (const cgio::VdbGridInfo& g : f.grids)
-      doc["grids"].push_back({{"name", g.name}, {"class", g.grid_class}, {"value_type", g.value_type},
-                              {"voxel_size", g.voxel_size}, {"linear", g.linear}, {"half", g.half},
-                              {"active_voxels", g.active_voxels}, {"leaf_count", g.leaf_count},
-                              {"empty", g.empty}, {"bbox_min", g.bbox_min}, {"bbox_max", g.bbox_max},
-                              {"min", g.min}, {"max", g.max}, {"background", g.background},
+      doc["grids"].push_back({{"name", g.name},
+                              {"class", g.grid_class},
+                              {"value_type", g.value_type},
+                              {"voxel_size", g.voxel_size},
+                              {"linear", g.linear},
+                              {"half", g.half},
+                              {"active_voxels", g.active_voxels},
+                              {"leaf_count", g.leaf_count},
+                              {"empty", g.empty},
+                              {"bbox_min", g.bbox_min},
+                              {"bbox_max", g.bbox_max},
+                              {"min", g.min},
+                              {"max", g.max},
+                              {"background", g.background},
                               {"metadata", g.metadata}});
     std::cout << doc.dump(2) << "\n";
     return kExitOk;
   }
-  std::printf("file: %s (%lld bytes, OpenVDB file version %s, compression %s)\n", path.c_str(),
-              cgio::file_size(path), f.version.c_str(), f.compression.c_str());
+  std::printf("file: %s (%lld bytes, OpenVDB file version %s, compression %s)\n", path.c_str(), cgio::file_size(path),
+              f.version.c_str(), f.compression.c_str());
   std::printf("grids: %zu\n", f.grids.size());
   for (const cgio::VdbGridInfo& g : f.grids) {
     std::printf("grid: %s\n", g.name.c_str());

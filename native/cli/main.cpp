@@ -11,8 +11,8 @@
 
 #include "cli/commands.h"
 #include "cli/events.h"
-#include "cloudgen/names.h"
 #include "cloudgen/grid.h"
+#include "cloudgen/names.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
 #include "io/vdb_sandbox.h"

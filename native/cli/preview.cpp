@@ -49,8 +49,16 @@ const char* const kPreviewHelp =
 int cmd_preview(const std::vector<std::string>& argv) {
   if (std::find(argv.begin(), argv.end(), "--json") != argv.end()) set_output_mode(OutputMode::Json);
   Args a("preview", argv,
-         {{"--preset", true}, {"--params", true}, {"--axis", true}, {"--offset", true}, {"--size", true},
-          {"--output", true}, {"--lod", false}, {"--time", true}, {"--threads", true}, {"--quiet", false},
+         {{"--preset", true},
+          {"--params", true},
+          {"--axis", true},
+          {"--offset", true},
+          {"--size", true},
+          {"--output", true},
+          {"--lod", false},
+          {"--time", true},
+          {"--threads", true},
+          {"--quiet", false},
           {"--json", false}});
   if (a.help()) return std::cout << kPreviewHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("preview: unexpected argument '" + a.positional()[0] + "'");
@@ -72,8 +80,8 @@ int cmd_preview(const std::vector<std::string>& argv) {
   const cg::Model model = cg::prepare(params);
   const std::string size = a.get("--size").value_or("256");
   const auto x = size.find_first_of("xX");
-  const std::string bad_size = "--size must be W or WxH with integers in [1, " + std::to_string(kMaxImageSide) +
-                               "]; got '" + size + "'";
+  const std::string bad_size =
+      "--size must be W or WxH with integers in [1, " + std::to_string(kMaxImageSide) + "]; got '" + size + "'";
   const auto w = parse_integer(size.substr(0, x));
   if (!w || *w < 1 || *w > kMaxImageSide) throw UsageError(bad_size);
   s.width = static_cast<int>(*w);
@@ -104,8 +112,8 @@ int cmd_preview(const std::vector<std::string>& argv) {
   const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
   const double seconds = seconds_since(t0);
   char line[200];
-  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g, %.2f s)", s.width, s.height,
-                axis.c_str(), s.offset, peak, seconds);
+  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g, %.2f s)", s.width, s.height, axis.c_str(),
+                s.offset, peak, seconds);
   emit("wrote",
        {{"path", output},
         {"size", {s.width, s.height}},

@@ -61,7 +61,7 @@ void check_output_path(const std::string& path, const std::string& option) {
   const std::string what = option + " '" + path + "'";
   if (path.empty()) throw OutputPathError(option + " must name a file; got an empty path");
   if (path.back() == '/') throw OutputPathError(what + " names a directory; expected a file name");
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw OutputPathError(what + " is a directory; expected a file name");
   const std::string dir = dir_of(path);
@@ -162,7 +162,7 @@ int remove_stale_temporaries(const std::string& final_path) {
     if (pid <= 0 || pid == long(::getpid())) continue;
     if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to know): leave it
     const std::string path = dir + "/" + name;
-    struct stat st{};
+    struct stat st {};
     if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
     if (::unlink(path.c_str()) == 0) ++removed;
   }
@@ -171,7 +171,7 @@ int remove_stale_temporaries(const std::string& final_path) {
 }
 
 long long file_size(const std::string& path) {
-  struct stat st{};
+  struct stat st {};
   return ::stat(path.c_str(), &st) == 0 ? static_cast<long long>(st.st_size) : -1;
 }
 

@@ -33,15 +33,16 @@ std::uint8_t png_level(float density) {
   return static_cast<std::uint8_t>(std::clamp(level, 0.0f, 255.0f));
 }
 
-void write_slice(const std::string& path, ImageFormat format, const std::vector<float>& values, int width,
-                 int height, const SliceMeta& meta) {
+void write_slice(const std::string& path, ImageFormat format, const std::vector<float>& values, int width, int height,
+                 const SliceMeta& meta) {
   using namespace OIIO;
   if (width < 1 || height < 1 || values.size() != std::size_t(width) * std::size_t(height))
     throw IoError("cannot write '" + path + "': image size does not match its pixels");
   const bool png = format == ImageFormat::Png;
   auto out = ImageOutput::create(png ? "png" : "openexr");
-  if (!out) throw IoError("cannot write '" + path + "': OpenImageIO has no " + (png ? "PNG" : "OpenEXR") +
-                          " writer (" + OIIO::geterror() + ")");
+  if (!out)
+    throw IoError("cannot write '" + path + "': OpenImageIO has no " + (png ? "PNG" : "OpenEXR") + " writer (" +
+                  OIIO::geterror() + ")");
   ImageSpec spec(width, height, 1, png ? TypeDesc::UINT8 : TypeDesc::FLOAT);
   spec.channelnames = {"Y"};
   spec.attribute("Software", std::string("cloudgen ") + cg::version());
@@ -65,8 +66,7 @@ void write_slice(const std::string& path, ImageFormat format, const std::vector<
     ok = out->write_image(TypeDesc::FLOAT, values.data());
   }
   const std::string err = ok ? "" : out->geterror();
-  if (!out->close() || !ok)
-    throw IoError("cannot write '" + path + "': " + (err.empty() ? out->geterror() : err));
+  if (!out->close() || !ok) throw IoError("cannot write '" + path + "': " + (err.empty() ? out->geterror() : err));
 }
 
 ImageData read_image(const std::string& path) {

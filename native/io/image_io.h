@@ -25,8 +25,8 @@ enum class ImageFormat { Png, Exr };
 std::optional<ImageFormat> image_format_for(const std::string& path);
 
 // The documented PNG display mapping.
-float png_display(float density);          // 1 - exp(-density / 4), in [0, 1)
-std::uint8_t png_level(float density);     // round(255 · png_display)
+float png_display(float density);       // 1 - exp(-density / 4), in [0, 1)
+std::uint8_t png_level(float density);  // round(255 · png_display)
 
 struct SliceMeta {
   std::string params_json;
@@ -36,17 +36,17 @@ struct SliceMeta {
 
 // Writes width × height densities to `path` in `format` (the path may carry a
 // temporary name; the format does not depend on it). Throws IoError.
-void write_slice(const std::string& path, ImageFormat format, const std::vector<float>& values,
-                 int width, int height, const SliceMeta& meta);
+void write_slice(const std::string& path, ImageFormat format, const std::vector<float>& values, int width, int height,
+                 const SliceMeta& meta);
 
 // An image read back (tests): pixels as floats (PNG levels 0..255 are
 // returned as the integer levels, not normalised), metadata as text.
 struct ImageData {
   int width = 0, height = 0, channels = 0;
-  std::string format_name;               // OIIO's name: "png", "openexr"
-  std::string pixel_type;                // e.g. "uint8", "float"
+  std::string format_name;  // OIIO's name: "png", "openexr"
+  std::string pixel_type;   // e.g. "uint8", "float"
   std::vector<std::string> channel_names;
-  std::vector<float> pixels;             // row-major, channels interleaved
+  std::vector<float> pixels;  // row-major, channels interleaved
   std::map<std::string, std::string> metadata;
 };
 

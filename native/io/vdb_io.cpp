@@ -1,13 +1,13 @@
 // io/vdb_io.cpp — the only translation unit that includes OpenVDB.
 #include "io/vdb_io.h"
 
-#include <fstream>
-#include <cerrno>
-#include <cstring>
+#include <openvdb/io/Compression.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
-#include <openvdb/io/Compression.h>
 #include <openvdb/tools/Count.h>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 
 #include <mutex>
 #include <sstream>
@@ -39,8 +39,8 @@ openvdb::FloatGrid::Ptr grid_from_bake(const cg::BakeResult& bake) {
   const cg::GridSpec& g = bake.grid;
   const double v = g.voxel;
   auto xform = openvdb::math::Transform::createLinearTransform(v);
-  xform->postTranslate(openvdb::Vec3d(double(g.origin[0]) + 0.5 * v, double(g.origin[1]) + 0.5 * v,
-                                      double(g.origin[2]) + 0.5 * v));
+  xform->postTranslate(
+      openvdb::Vec3d(double(g.origin[0]) + 0.5 * v, double(g.origin[1]) + 0.5 * v, double(g.origin[2]) + 0.5 * v));
   grid->setTransform(xform);
   auto& tree = grid->tree();
   for (const cg::Tile& tile : bake.tiles) {
@@ -157,7 +157,8 @@ MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::s
       seen.assign(count, false);
       whole_key = meta_text(*grid, kWholeKeyMeta);
     }
-    if (count != seen.size()) throw IoError(what + " is brick " + tag + ", the first was of " + std::to_string(seen.size()));
+    if (count != seen.size())
+      throw IoError(what + " is brick " + tag + ", the first was of " + std::to_string(seen.size()));
     if (meta_text(*grid, kWholeKeyMeta) != whole_key) throw IoError(what + " belongs to another bake (whole bake key)");
     if (seen[index]) throw IoError(what + ": brick " + tag + " is given twice");
     seen[index] = true;
@@ -169,7 +170,8 @@ MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::s
     out->tree().merge(grid->tree());  // disjoint leaves: every brick's voxels are moved over
   }
   for (std::size_t i = 0; i < seen.size(); ++i)
-    if (!seen[i]) throw IoError("merge: brick " + std::to_string(i) + "/" + std::to_string(seen.size()) + " is missing");
+    if (!seen[i])
+      throw IoError("merge: brick " + std::to_string(i) + "/" + std::to_string(seen.size()) + " is missing");
   out->removeMeta(kBrickMeta);
   out->removeMeta(kWholeKeyMeta);
   out->removeMeta("cloudgen_bake_key");
@@ -238,13 +240,9 @@ VdbFloatGrid::VdbFloatGrid(const std::string& path, const std::string& name) : i
 VdbFloatGrid::~VdbFloatGrid() = default;
 VdbFloatGrid::VdbFloatGrid(VdbFloatGrid&&) noexcept = default;
 
-float VdbFloatGrid::value(int i, int j, int k) const {
-  return impl_->grid->tree().getValue(openvdb::Coord(i, j, k));
-}
+float VdbFloatGrid::value(int i, int j, int k) const { return impl_->grid->tree().getValue(openvdb::Coord(i, j, k)); }
 
-bool VdbFloatGrid::active(int i, int j, int k) const {
-  return impl_->grid->tree().isValueOn(openvdb::Coord(i, j, k));
-}
+bool VdbFloatGrid::active(int i, int j, int k) const { return impl_->grid->tree().isValueOn(openvdb::Coord(i, j, k)); }
 
 std::array<double, 3> VdbFloatGrid::index_to_world(double i, double j, double k) const {
   const openvdb::Vec3d w = impl_->grid->transform().indexToWorld(openvdb::Vec3d(i, j, k));

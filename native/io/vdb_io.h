@@ -25,12 +25,12 @@
 namespace cgio {
 
 struct VdbWriteOptions {
-  bool half = false;         // saveFloatAsHalf
-  std::string params_json;   // cg::params_to_json of the baked parameters
-  std::string preset;        // empty: no cloudgen_preset entry
-  float time = 0.0f;         // the `time` parameter baked
+  bool half = false;        // saveFloatAsHalf
+  std::string params_json;  // cg::params_to_json of the baked parameters
+  std::string preset;       // empty: no cloudgen_preset entry
+  float time = 0.0f;        // the `time` parameter baked
   int resolution = 0;
-  std::string bake_key;      // field key + bake settings (`bake --update` compares it)
+  std::string bake_key;  // field key + bake settings (`bake --update` compares it)
   // A brick of a split bake (BakeOptions::brick_*): "I/N" and the key the whole
   // bake has; `cloudgen merge` checks and drops both. Empty: a whole bake.
   std::string brick;
@@ -56,10 +56,10 @@ MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::s
 struct VdbGridInfo {
   std::string name, grid_class, value_type;
   std::array<double, 3> voxel_size{};
-  bool linear = false;         // the transform is a linear map
-  bool half = false;           // stored as 16-bit floats
+  bool linear = false;  // the transform is a linear map
+  bool half = false;    // stored as 16-bit floats
   std::int64_t active_voxels = 0, leaf_count = 0;
-  double min = 0, max = 0;     // over the active voxels (0, 0 when empty)
+  double min = 0, max = 0;  // over the active voxels (0, 0 when empty)
   bool empty = true;
   std::array<int, 3> bbox_min{}, bbox_max{};  // active index bounding box (inclusive)
   double background = 0;
@@ -85,7 +85,7 @@ class VdbFloatGrid {
   VdbFloatGrid(VdbFloatGrid&&) noexcept;
 
   const VdbGridInfo& info() const { return info_; }
-  float value(int i, int j, int k) const;   // the background where inactive
+  float value(int i, int j, int k) const;  // the background where inactive
   bool active(int i, int j, int k) const;
   // Index → local (world) position through the grid's transform.
   std::array<double, 3> index_to_world(double i, double j, double k) const;

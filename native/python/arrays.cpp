@@ -80,9 +80,10 @@ static void check_point_count(Py_ssize_t n) {
   const double budget = pages > 0 && page > 0 ? pages * page / 2.0 : 8.0 * double(1ull << 30);
   if (double(n) * 16.0 > budget) {
     char msg[300];
-    std::snprintf(msg, sizeof msg, "%s: %lld points need %.3g GiB (a float32 copy and the result), more than half "
-                  "of this machine's memory (%.3g GiB); evaluate them in chunks", kPointsExpect, (long long)n,
-                  double(n) * 16.0 / double(1ull << 30), budget / double(1ull << 30));
+    std::snprintf(msg, sizeof msg,
+                  "%s: %lld points need %.3g GiB (a float32 copy and the result), more than half "
+                  "of this machine's memory (%.3g GiB); evaluate them in chunks",
+                  kPointsExpect, (long long)n, double(n) * 16.0 / double(1ull << 30), budget / double(1ull << 30));
     raise(PyExc_MemoryError, msg);
   }
 }

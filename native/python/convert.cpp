@@ -3,9 +3,9 @@
 
 #include "cloudgen/names.h"
 
-#include <climits>
 #include <cfloat>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -248,8 +248,7 @@ static std::string preset_names() {
 cg::Params params_from_py(PyObject* obj) {
   cg::Params params;
   if (obj == Py_None) return params;
-  if (!PyDict_Check(obj))
-    raise(PyExc_TypeError, "params must be a dict keyed by parameter names" + got(obj));
+  if (!PyDict_Check(obj)) raise(PyExc_TypeError, "params must be a dict keyed by parameter names" + got(obj));
   // Iterate over a copy: converting a value may run arbitrary Python code.
   Ref dict = check(PyDict_Copy(obj));
   Ref preset_key = str_to_py("preset");

@@ -79,14 +79,10 @@ PyObject* guarded(F&& f) noexcept {
 template <class F>
 void without_gil(F&& f) {
   std::exception_ptr error;
-  Py_BEGIN_ALLOW_THREADS
-  try {
-    f();
-  } catch (...) {
+  Py_BEGIN_ALLOW_THREADS try { f(); } catch (...) {
     error = std::current_exception();
   }
-  Py_END_ALLOW_THREADS
-  if (error) std::rethrow_exception(error);
+  Py_END_ALLOW_THREADS if (error) std::rethrow_exception(error);
 }
 
 // ---- scalars ----

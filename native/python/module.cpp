@@ -12,16 +12,16 @@
 
 #include "arrays.h"
 #include "cloudgen/density_block.h"
-#include "cloudgen/grid.h"
-#include "cloudgen/model.h"
 #include "cloudgen/field_key.h"
 #include "cloudgen/frame_path.h"
-#include "io/atomic_file.h"
-#include "io/vdb_check.h"
+#include "cloudgen/grid.h"
+#include "cloudgen/model.h"
+#include "cloudgen/parallel.h"
 #include "cloudgen/param_io.h"
 #include "cloudgen/tiers.h"
-#include "cloudgen/parallel.h"
 #include "convert.h"
+#include "io/atomic_file.h"
+#include "io/vdb_check.h"
 
 namespace cgpy {
 namespace {
@@ -63,7 +63,8 @@ PyObject* py_presets(PyObject*, PyObject*) {
         } else {
           Ref list = check(PyList_New(static_cast<Py_ssize_t>(m.values.size())));
           for (size_t i = 0; i < m.values.size(); ++i)
-            check_status(PyList_SetItem(list.get(), static_cast<Py_ssize_t>(i), check(PyFloat_FromDouble(m.values[i])).release()));
+            check_status(PyList_SetItem(list.get(), static_cast<Py_ssize_t>(i),
+                                        check(PyFloat_FromDouble(m.values[i])).release()));
           set_item(material.get(), m.key.c_str(), std::move(list));
         }
       }
@@ -116,8 +117,8 @@ PyObject* py_frame_path(PyObject*, PyObject* args) {
     const char* pattern = PyUnicode_AsUTF8AndSize(pattern_obj, &size);
     if (!pattern) throw PyErrorSet{};
     if (size > kMaxPatternBytes)
-      raise(PyExc_ValueError, "pattern must be at most " + std::to_string(kMaxPatternBytes) + " bytes; got " +
-                                  std::to_string(size));
+      raise(PyExc_ValueError,
+            "pattern must be at most " + std::to_string(kMaxPatternBytes) + " bytes; got " + std::to_string(size));
     const long long frame = int_arg(frame_obj, "frame must be an integer in [-1000000, 1000000]");
     if (frame < -1000000 || frame > 1000000)
       raise(PyExc_ValueError, "frame must be an integer in [-1000000, 1000000]; got " + std::to_string(frame));
@@ -233,8 +234,8 @@ PyObject* py_slice(PyObject*, PyObject* args, PyObject* kwargs) {
     PyObject *params_obj = nullptr, *axis_obj = nullptr, *offset_obj = nullptr, *width_obj = nullptr,
              *height_obj = nullptr, *threads_obj = nullptr;
     int lod = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OOOOO|pO:slice", const_cast<char**>(kwlist), &params_obj,
-                                     &axis_obj, &offset_obj, &width_obj, &height_obj, &lod, &threads_obj))
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OOOOO|pO:slice", const_cast<char**>(kwlist), &params_obj, &axis_obj,
+                                     &offset_obj, &width_obj, &height_obj, &lod, &threads_obj))
       throw PyErrorSet{};
     const cg::Params params = params_from_py(params_obj);
     cg::SliceSpec spec;
@@ -315,8 +316,7 @@ PyMethodDef kMethods[] = {
      "The file of a sequence frame, named exactly as `cloudgen bake` names it: the last\n"
      "run of '#' becomes the frame number zero-padded to the run's length, else _NNNN\n"
      "goes before the extension. frame in [-1000000, 1000000]."},
-    {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)),
-     METH_VARARGS | METH_KEYWORDS,
+    {"slice", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_slice)), METH_VARARGS | METH_KEYWORDS,
      "slice(params, axis, offset, width, height, lod=False, threads=0)\n--\n\n"
      "Cross-section through the cloud box perpendicular to axis ('x', 'y', 'z' or\n"
      "0-2) at generated coordinate offset in [0, 1]; width and height in [1, 8192].\n"
@@ -326,9 +326,7 @@ PyMethodDef kMethods[] = {
     {nullptr, nullptr, 0, nullptr},
 };
 
-int exec_module(PyObject* module) {
-  return PyModule_AddStringConstant(module, "__version__", cg::version());
-}
+int exec_module(PyObject* module) { return PyModule_AddStringConstant(module, "__version__", cg::version()); }
 
 PyModuleDef_Slot kSlots[] = {
     {Py_mod_exec, reinterpret_cast<void*>(exec_module)},

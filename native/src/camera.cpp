@@ -57,8 +57,8 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
   const std::string where(origin);
   json doc = parse_json_limited(text, where, kSmallFileLimits);
   if (!doc.is_object()) throw ParamError(where + ": expected a JSON object (see docs/camera.md)");
-  static const char* const known[] = {"camera_to_cloud", "tan_half_fov", "resolution", "near",
-                                      "margin", "pixels_per_voxel", "type", "light_directions"};
+  static const char* const known[] = {"camera_to_cloud", "tan_half_fov",     "resolution", "near",
+                                      "margin",          "pixels_per_voxel", "type",       "light_directions"};
   for (auto it = doc.begin(); it != doc.end(); ++it) {
     const std::string& key = it.key();  // not a structured binding: clang 14 cannot capture one
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
@@ -78,7 +78,8 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
     for (int k = 0; k < 4; ++k) {
       if (!m[r][k].is_number() || !std::isfinite(m[r][k].get<double>())) throw ParamError(bad_matrix);
       c.camera_to_cloud[r][k] = m[r][k].get<double>();
-      if (std::fabs(c.camera_to_cloud[r][k]) > 1e9) throw ParamError(where + ": 'camera_to_cloud' values must be within ±1e9");
+      if (std::fabs(c.camera_to_cloud[r][k]) > 1e9)
+        throw ParamError(where + ": 'camera_to_cloud' values must be within ±1e9");
     }
   }
   // Rigid: the rotation part orthonormal (tolerance 1e-3), bottom row 0 0 0 1.
@@ -87,7 +88,8 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
       double s = 0;
       for (int r = 0; r < 3; ++r) s += c.camera_to_cloud[r][a] * c.camera_to_cloud[r][b];
       if (std::fabs(s - (a == b ? 1.0 : 0.0)) > 1e-3)
-        throw ParamError(where + ": 'camera_to_cloud' must be a rigid transform (rotation and translation, "
+        throw ParamError(where +
+                         ": 'camera_to_cloud' must be a rigid transform (rotation and translation, "
                          "no scale or shear; remove the objects' scale)");
     }
   if (c.camera_to_cloud[3][0] != 0 || c.camera_to_cloud[3][1] != 0 || c.camera_to_cloud[3][2] != 0 ||
@@ -112,8 +114,9 @@ CameraView parse_camera(std::string_view text, std::string_view origin) {
     c.pixels_per_voxel = float(read_number(doc, "pixels_per_voxel", kMinPixelsPerVoxel, kMaxPixelsPerVoxel, where));
   if (doc.contains("light_directions")) {
     const json& l = doc["light_directions"];
-    const std::string bad = where + ": 'light_directions' must be a list of at most 4 non-zero [x, y, z] directions "
-                                    "towards the lights, in the cloud's frame";
+    const std::string bad = where +
+                            ": 'light_directions' must be a list of at most 4 non-zero [x, y, z] directions "
+                            "towards the lights, in the cloud's frame";
     if (!l.is_array() || l.size() > c.lights.size()) throw ParamError(bad);
     for (const json& d : l) {
       if (!d.is_array() || d.size() != 3) throw ParamError(bad);

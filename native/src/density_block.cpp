@@ -20,11 +20,15 @@ void scalar_points(const Model& m, const vec3* points, std::size_t n, const Lod&
 Entry entry(SimdLevel level) {
   switch (level) {
 #if defined(CLOUDGEN_SIMD_X86)
-    case SimdLevel::Baseline: return simd_baseline::density_points;
-    case SimdLevel::Avx2: return simd_avx2::density_points;
-    case SimdLevel::Avx512: return simd_avx512::density_points;
+    case SimdLevel::Baseline:
+      return simd_baseline::density_points;
+    case SimdLevel::Avx2:
+      return simd_avx2::density_points;
+    case SimdLevel::Avx512:
+      return simd_avx512::density_points;
 #endif
-    default: return scalar_points;
+    default:
+      return scalar_points;
   }
 }
 
@@ -32,10 +36,10 @@ bool cpu_has(SimdLevel level) {
 #if defined(CLOUDGEN_SIMD_X86)
   __builtin_cpu_init();
   switch (level) {
-    case SimdLevel::Scalar: return true;
+    case SimdLevel::Scalar:
+      return true;
     case SimdLevel::Baseline:
-      return __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt") &&
-             __builtin_cpu_supports("ssse3");
+      return __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt") && __builtin_cpu_supports("ssse3");
     case SimdLevel::Avx2:
       return cpu_has(SimdLevel::Baseline) && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
              __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("f16c") &&
@@ -78,10 +82,14 @@ SimdLevel choose_at_start() {
 
 const char* simd_level_name(SimdLevel level) {
   switch (level) {
-    case SimdLevel::Scalar: return "scalar";
-    case SimdLevel::Baseline: return "baseline";
-    case SimdLevel::Avx2: return "avx2";
-    case SimdLevel::Avx512: return "avx512";
+    case SimdLevel::Scalar:
+      return "scalar";
+    case SimdLevel::Baseline:
+      return "baseline";
+    case SimdLevel::Avx2:
+      return "avx2";
+    case SimdLevel::Avx512:
+      return "avx512";
   }
   return "?";
 }

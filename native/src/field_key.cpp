@@ -61,9 +61,12 @@ enum class KeyRule { Always, ExponentShape, CurveShape };
 
 bool reaches_field(KeyRule rule, const Model& m) {
   switch (rule) {
-    case KeyRule::Always: return true;
-    case KeyRule::ExponentShape: return m.shape_mode != 1;  // cg_profile uses the exponent unless mode is 1
-    case KeyRule::CurveShape: return m.shape_mode == 1;
+    case KeyRule::Always:
+      return true;
+    case KeyRule::ExponentShape:
+      return m.shape_mode != 1;  // cg_profile uses the exponent unless mode is 1
+    case KeyRule::CurveShape:
+      return m.shape_mode == 1;
   }
   return true;
 }

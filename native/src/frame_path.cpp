@@ -10,8 +10,8 @@ namespace {
 // |frame| in decimal, zero-padded to `width` digits, the sign in front.
 std::string padded(long long frame, std::size_t width) {
   // magnitude as unsigned: -LLONG_MIN does not fit a long long
-  unsigned long long mag = frame < 0 ? 0ull - static_cast<unsigned long long>(frame)
-                                     : static_cast<unsigned long long>(frame);
+  unsigned long long mag =
+      frame < 0 ? 0ull - static_cast<unsigned long long>(frame) : static_cast<unsigned long long>(frame);
   std::string digits;
   do {
     digits.insert(digits.begin(), static_cast<char>('0' + mag % 10));

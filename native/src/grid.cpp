@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 #include "cloudgen/density_block.h"
 
@@ -56,9 +56,7 @@ float tile_bound(const Model& m, const GridSpec& g, const TileRange& r) {
   return shape_upper_bound(m, lo, hi);
 }
 
-std::int64_t tile_count(const GridSpec& g) {
-  return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2);
-}
+std::int64_t tile_count(const GridSpec& g) { return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2); }
 
 // Outside the camera region: the tile's voxels, widened by one voxel (their
 // trilinear footprint), lie wholly outside a plane of the frustum.
@@ -175,8 +173,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     for (Tile& t : w.tiles) result.tiles.push_back(t);
   }
   // Deterministic order, whatever the thread schedule was.
-  std::sort(result.tiles.begin(), result.tiles.end(),
-            [](const Tile& a, const Tile& b) { return a.index < b.index; });
+  std::sort(result.tiles.begin(), result.tiles.end(), [](const Tile& a, const Tile& b) { return a.index < b.index; });
   return result;
 }
 

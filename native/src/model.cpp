@@ -37,8 +37,7 @@ float core_max(const Model& m, float a, float b) {
 
 Model prepare(const Params& p) {
   Model m{};
-  for (int i = 0; i < 3; ++i)
-    m.box[i] = finite_clamp(std::fabs(p.get(BOX_SIZE, i)), 1e-6f, 1e9f);
+  for (int i = 0; i < 3; ++i) m.box[i] = finite_clamp(std::fabs(p.get(BOX_SIZE, i)), 1e-6f, 1e9f);
   m.cloud_scale = p.get(CLOUD_SCALE);
   m.shape_mode = p.get(SHAPE_MODE) >= 0.5f ? 1 : 0;
   m.shape_exponent = p.get(SHAPE_EXPONENT);

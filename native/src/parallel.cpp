@@ -30,8 +30,8 @@ int usable_cores() {
 
 int resolve_threads(int requested) { return requested > 0 ? requested : usable_cores(); }
 
-bool parallel_for(std::int64_t count, int threads,
-                  const std::function<void(std::int64_t, int)>& body, const Progress& progress) {
+bool parallel_for(std::int64_t count, int threads, const std::function<void(std::int64_t, int)>& body,
+                  const Progress& progress) {
   if (count <= 0) return progress ? progress(0, 0) : true;
   const int n_workers = static_cast<int>(std::min<std::int64_t>(resolve_threads(threads), count));
   std::atomic<std::int64_t> next{0}, done{0};

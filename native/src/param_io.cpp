@@ -8,9 +8,9 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
-#include "json_limits.h"
 #include "cloudgen_presets_data.h"  // generated: kPresetsJson
 #include "cloudgen_version.h"       // generated: kCloudgenVersion
+#include "json_limits.h"
 
 namespace cg {
 
@@ -27,8 +27,7 @@ void apply_value(Params& params, P p, const json& v, std::string_view origin) {
   const int n = component_count(d.kind);
   std::vector<float> values;
   auto take = [&](const json& x) {
-    if (!x.is_number())
-      throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + brief(x));
+    if (!x.is_number()) throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + brief(x));
     const double dv = x.get<double>();
     if (!std::isfinite(dv) || std::fabs(dv) > FLT_MAX)
       throw ParamError(where(origin, d.key) + " must be " + describe_range(d) + "; got " + brief(x));
@@ -89,8 +88,7 @@ std::vector<MaterialValue> parse_material(const json& obj, const std::string& or
       throw ParamError(origin + ": unknown material key '" + brief_text(it.key()) + "' (known: " + known + ")");
     const std::string what = origin + ": material '" + it.key() + "' must be " +
                              (decl->count == 1 ? "a number" : "a list of " + std::to_string(decl->count) + " numbers") +
-                             " in [" + shortest(decl->min) + ", " + shortest(decl->max) + "]; got " +
-                             brief(it.value());
+                             " in [" + shortest(decl->min) + ", " + shortest(decl->max) + "]; got " + brief(it.value());
     MaterialValue value{it.key(), {}};
     const json& v = it.value();
     if (decl->count == 1 ? !v.is_number() : !(v.is_array() && v.size() == static_cast<size_t>(decl->count)))
@@ -211,14 +209,19 @@ std::string declarations_json(int indent) {
   json arr = json::array();
   for (int i = 0; i < PARAM_COUNT; ++i) {
     const ParamDecl& d = kParams[i];
-    arr.push_back({{"name", d.key},          {"label", d.label},
-                   {"group", d.group},       {"kind", kind_name(d.kind)},
+    arr.push_back({{"name", d.key},
+                   {"label", d.label},
+                   {"group", d.group},
+                   {"kind", kind_name(d.kind)},
                    {"count", component_count(d.kind)},
                    {"default", value_json(defaults, static_cast<P>(i))},
-                   {"min", d.min},           {"max", d.max},
-                   {"soft_min", d.soft_min}, {"soft_max", d.soft_max},
+                   {"min", d.min},
+                   {"max", d.max},
+                   {"soft_min", d.soft_min},
+                   {"soft_max", d.soft_max},
                    {"map", {d.map_lo, d.map_hi}},
-                   {"unit", d.unit},         {"help", d.help}});
+                   {"unit", d.unit},
+                   {"help", d.help}});
   }
   return arr.dump(indent);
 }

@@ -3,8 +3,8 @@
 
 #include "cloudgen/names.h"
 
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <string>
 
 namespace cg {
@@ -12,15 +12,14 @@ namespace cg {
 // Default height curve (Shape Gradient, mode 1): a cumulus profile — a flat
 // base that widens within the first eighth of the height, the widest point at
 // a quarter, then a dome tapering to the top. Values are squared radii.
-const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.70f, 0.85f, 0.90f, 0.90f, 0.87f,
-                                              0.82f, 0.75f, 0.67f, 0.58f, 0.48f, 0.38f,
-                                              0.28f, 0.19f, 0.11f, 0.04f, 0.00f};
+const float kDefaultCurve[CG_CURVE_POINTS] = {0.00f, 0.70f, 0.85f, 0.90f, 0.90f, 0.87f, 0.82f, 0.75f, 0.67f,
+                                              0.58f, 0.48f, 0.38f, 0.28f, 0.19f, 0.11f, 0.04f, 0.00f};
 
 // One row of param_list.h per entry, in the enum's order (the same rows make the enum).
 #define CG_PARAM_UNPAREN(...) __VA_ARGS__
 #define CG_PARAM(ENUM, key, label, group, kind, defaults, min, max, soft_min, soft_max, map_lo, map_hi, unit, help) \
-  {key, label, group, Kind::kind, {CG_PARAM_UNPAREN defaults}, min, max, soft_min, soft_max, map_lo, map_hi,     \
-   unit, help},
+  {key,    label,  group, Kind::kind, {CG_PARAM_UNPAREN defaults}, min, max, soft_min, soft_max,                    \
+   map_lo, map_hi, unit,  help},
 const ParamDecl kParams[PARAM_COUNT] = {
 #include "cloudgen/param_list.h"
 };
@@ -29,10 +28,14 @@ const ParamDecl kParams[PARAM_COUNT] = {
 
 const char* kind_name(Kind k) {
   switch (k) {
-    case Kind::Float: return "float";
-    case Kind::Int: return "int";
-    case Kind::Vector: return "vector";
-    case Kind::Curve: return "curve";
+    case Kind::Float:
+      return "float";
+    case Kind::Int:
+      return "int";
+    case Kind::Vector:
+      return "vector";
+    case Kind::Curve:
+      return "curve";
   }
   return "?";
 }
@@ -73,10 +76,14 @@ std::string describe_range(const ParamDecl& d) {
   range += num(d.max);
   range += "]";
   switch (d.kind) {
-    case Kind::Float: return "a number in " + range;
-    case Kind::Int: return "an integer in " + range;
-    case Kind::Vector: return "3 numbers, each in " + range;
-    case Kind::Curve: return std::to_string(CG_CURVE_POINTS) + " numbers, each in " + range;
+    case Kind::Float:
+      return "a number in " + range;
+    case Kind::Int:
+      return "an integer in " + range;
+    case Kind::Vector:
+      return "3 numbers, each in " + range;
+    case Kind::Curve:
+      return std::to_string(CG_CURVE_POINTS) + " numbers, each in " + range;
   }
   return range;
 }

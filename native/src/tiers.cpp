@@ -6,7 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "cloudgen/params.h"     // ParamError
+#include "cloudgen/params.h"      // ParamError
 #include "cloudgen_tiers_data.h"  // generated: kTiersJson
 
 namespace cg {
@@ -78,7 +78,8 @@ std::vector<Tier> parse_tiers(std::string_view text) {
     tier.bake_tolerance = static_cast<float>(number(bake, "tolerance", 0.0, 1.0e30, where + ".bake"));
     tier.bake_half = flag(bake, "half", where + ".bake");
     if (bake.contains("pixels_per_voxel"))
-      tier.bake_pixels_per_voxel = static_cast<float>(number(bake, "pixels_per_voxel", kMinPixelsPerVoxel, kMaxPixelsPerVoxel, where + ".bake"));
+      tier.bake_pixels_per_voxel =
+          static_cast<float>(number(bake, "pixels_per_voxel", kMinPixelsPerVoxel, kMaxPixelsPerVoxel, where + ".bake"));
     const json& preview = section(t, "preview", where);
     tier.preview_size = integer(preview, "size", 1, 16384, where + ".preview");
     if (const auto m = t.find("measured"); m != t.end() && !m->is_object())

@@ -119,8 +119,8 @@ TEST(Camera, LightSweepKeepsCloudBetweenTheViewAndTheSun) {
   const cg::Model m = cg::prepare(preset("cumulus"));
   const std::string base = camera_json({0, -8, -1.0f}, 0.08, 0.08, 64, 64, ", \"margin\": 0");
   const cg::CameraView no_light = cg::parse_camera(base);
-  const cg::CameraView sun =
-      cg::parse_camera(camera_json({0, -8, -1.0f}, 0.08, 0.08, 64, 64, ", \"margin\": 0, \"light_directions\": [[0, 0, 1]]"));
+  const cg::CameraView sun = cg::parse_camera(
+      camera_json({0, -8, -1.0f}, 0.08, 0.08, 64, 64, ", \"margin\": 0, \"light_directions\": [[0, 0, 1]]"));
   const vec3 lo{-0.2f, -0.2f, 1.0f}, hi{0.2f, 0.2f, 1.4f};  // above the view, under the sun
   EXPECT_TRUE(cg::box_outside(cg::fit_camera(m, no_light).region, lo, hi));
   EXPECT_FALSE(cg::box_outside(cg::fit_camera(m, sun).region, lo, hi));
@@ -140,8 +140,10 @@ TEST(Camera, BadCameraFilesNameTheKey) {
   expect_error("{}", "camera_to_cloud");
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 0, 10), "resolution");
   expect_error(camera_json({0, 0, 0}, -1, 0.5, 10, 10), "tan_half_fov");
-  expect_error("{\"camera_to_cloud\": [[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], \"tan_half_fov\": [1,1],"
-               " \"resolution\": [8,8]}", "rigid");
+  expect_error(
+      "{\"camera_to_cloud\": [[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], \"tan_half_fov\": [1,1],"
+      " \"resolution\": [8,8]}",
+      "rigid");
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 8, 8, ", \"type\": \"ORTHO\""), "perspective");
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 8, 8, ", \"light_directions\": [[0,0,0]]"), "light_directions");
   expect_error(camera_json({0, 0, 0}, 0.5, 0.5, 8, 8, ", \"zoom\": 2"), "zoom");

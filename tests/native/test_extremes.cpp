@@ -273,8 +273,8 @@ TEST(FarFromOrigin, FieldStatisticsMatchTheOrigin) {
       const FieldStats s = field_stats(p, n);
       std::cout << "[ figures  ] offset " << offset << (diagonal ? " diagonal" : " along x") << ": density mean "
                 << s.mean_d << " (" << (s.mean_d / origin.mean_d - 1) * 100 << " %) sd " << s.sd_d << " ("
-                << (s.sd_d / origin.sd_d - 1) * 100 << " %), N mean " << s.mean_n << " sd " << s.sd_n
-                << ", distinct N " << s.distinct << "\n";
+                << (s.sd_d / origin.sd_d - 1) * 100 << " %), N mean " << s.mean_n << " sd " << s.sd_n << ", distinct N "
+                << s.distinct << "\n";
       const std::string where = "offset " + std::to_string(offset) + (diagonal ? " diagonal" : " along x");
       EXPECT_NEAR(s.mean_d, origin.mean_d, 0.05 * origin.mean_d) << where;
       EXPECT_NEAR(s.sd_d, origin.sd_d, 0.05 * origin.sd_d) << where;

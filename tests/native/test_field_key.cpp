@@ -138,25 +138,25 @@ TEST(FieldKey, ChangesTheKernelCannotSeeKeepTheKey) {
     still.set(cg::EVOLUTION, 0.0f);
     cases.push_back({"time, with no wind and no evolution", still, [](cg::Params& p) { p.set(cg::TIME, 99.0f); }});
     const float dir[3] = {0.0f, -1.0f, 0.5f};
-    cases.push_back({"wind direction, with no wind", still,
-                     [dir](cg::Params& p) { p.set(cg::WIND_DIRECTION, dir, 3); }});
+    cases.push_back(
+        {"wind direction, with no wind", still, [dir](cg::Params& p) { p.set(cg::WIND_DIRECTION, dir, 3); }});
   }
   {
     const float half[3] = {0.5f, 0.25f, -0.125f};  // live_base's direction halved: the same unit vector
-    cases.push_back({"wind direction's length", live_base(1),
-                     [half](cg::Params& p) { p.set(cg::WIND_DIRECTION, half, 3); }});
+    cases.push_back(
+        {"wind direction's length", live_base(1), [half](cg::Params& p) { p.set(cg::WIND_DIRECTION, half, 3); }});
   }
   {
     cg::Params follows = live_base(1);
     follows.set(cg::STATIONARY, 1.0f);
     const float far[3] = {-40.0f, 17.0f, 3.5f};
-    cases.push_back({"object location, with Stationary 1", follows,
-                     [far](cg::Params& p) { p.set(cg::OBJECT_LOCATION, far, 3); }});
+    cases.push_back(
+        {"object location, with Stationary 1", follows, [far](cg::Params& p) { p.set(cg::OBJECT_LOCATION, far, 3); }});
   }
-  cases.push_back({"shape curve, in shape mode 0", live_base(0),
-                   [](cg::Params& p) { p.set_unchecked(cg::SHAPE_CURVE, 6, 0.1f); }});
-  cases.push_back({"shape exponent, in shape mode 1", live_base(1),
-                   [](cg::Params& p) { p.set(cg::SHAPE_EXPONENT, 3.0f); }});
+  cases.push_back(
+      {"shape curve, in shape mode 0", live_base(0), [](cg::Params& p) { p.set_unchecked(cg::SHAPE_CURVE, 6, 0.1f); }});
+  cases.push_back(
+      {"shape exponent, in shape mode 1", live_base(1), [](cg::Params& p) { p.set(cg::SHAPE_EXPONENT, 3.0f); }});
   // Density 0: every parameter's every trial value keeps the one empty key.
   for (int mode = 0; mode < 2; ++mode) {
     cg::Params empty = live_base(mode);
@@ -178,8 +178,7 @@ TEST(FieldKey, ChangesTheKernelCannotSeeKeepTheKey) {
     EXPECT_LT(diff, 0) << k.what << ": the case is wrong, the density moves at "
                        << (diff < 0 ? std::string("-") : str(points[diff]));
     EXPECT_EQ(cg::field_key(ma), cg::field_key(mb))
-        << k.what << ": the key moved; base " << cgtest::describe(k.base) << ", changed "
-        << cgtest::describe(changed);
+        << k.what << ": the key moved; base " << cgtest::describe(k.base) << ", changed " << cgtest::describe(changed);
   }
 }
 
@@ -217,13 +216,13 @@ TEST(FieldKey, EveryModelFieldIsHashed) {
     const auto reaches = [&](const std::string& rule) {
       return rule == "Always" || (rule == "ExponentShape" && mode != 1) || (rule == "CurveShape" && mode == 1);
     };
-#define CG_MODEL_FIELD(type, name, key_rule)                                                         \
-  perturb_each(m.name, [&] {                                                                         \
-    if (reaches(#key_rule))                                                                          \
+#define CG_MODEL_FIELD(type, name, key_rule)                                                          \
+  perturb_each(m.name, [&] {                                                                          \
+    if (reaches(#key_rule))                                                                           \
       EXPECT_NE(cg::field_key(m), base) << "Model::" #name " (shape mode " << mode << ") not hashed"; \
-    else                                                                                             \
-      EXPECT_EQ(cg::field_key(m), base) << "Model::" #name " (shape mode " << mode << ", " #key_rule \
-                                        << ") hashed where it cannot reach the field";               \
+    else                                                                                              \
+      EXPECT_EQ(cg::field_key(m), base) << "Model::" #name " (shape mode " << mode << ", " #key_rule  \
+                                        << ") hashed where it cannot reach the field";                \
   });
 #define CG_MODEL_ARRAY(type, name, count, key_rule) CG_MODEL_FIELD(type, name, key_rule)
 #include "cloudgen/model_fields.h"

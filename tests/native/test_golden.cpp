@@ -45,8 +45,7 @@ namespace {
 
 using cg::vec3;
 
-constexpr const char* kRegenerate =
-    "CLOUDGEN_WRITE_GOLDEN=1 build/bin/cloudgen_tests --gtest_filter='Golden.*'";
+constexpr const char* kRegenerate = "CLOUDGEN_WRITE_GOLDEN=1 build/bin/cloudgen_tests --gtest_filter='Golden.*'";
 constexpr double kRelativeTolerance = 1e-6;
 constexpr int kPointsPerCase = 12;  // 9 inside the cloud (density > 0) and 3 empty ones where possible
 
@@ -58,12 +57,14 @@ struct Variant {
 const std::vector<Variant>& variants() {
   static const std::vector<Variant> v = {
       {"declared", [](cg::Params&) {}},
-      {"far", [](cg::Params& p) {
+      {"far",
+       [](cg::Params& p) {
          const float location[3] = {123456.5f, -65432.25f, 2500.75f};
          p.set(cg::OBJECT_LOCATION, location, 3);
          p.set(cg::STATIONARY, 0.3f);
        }},
-      {"late", [](cg::Params& p) {
+      {"late",
+       [](cg::Params& p) {
          const float wind[3] = {0.6f, -0.8f, 0.1f};
          p.set(cg::WIND_DIRECTION, wind, 3);
          p.set(cg::WIND_STRENGTH, 0.35f);
@@ -114,8 +115,8 @@ void write_golden() {
           rows.push_back({q[0], q[1], q[2], d});
         }
       }
-      o << (first_case ? "\n" : ",\n") << "    {\"cloud\": \"" << name << "\", \"variant\": \""
-        << variants()[vi].name << "\", \"field_key\": \"" << cg::field_key(m) << "\",\n     \"points\": [";
+      o << (first_case ? "\n" : ",\n") << "    {\"cloud\": \"" << name << "\", \"variant\": \"" << variants()[vi].name
+        << "\", \"field_key\": \"" << cg::field_key(m) << "\",\n     \"points\": [";
       first_case = false;
       for (std::size_t k = 0; k < rows.size(); ++k)
         o << (k ? ",\n                " : "") << "[" << text(rows[k][0]) << ", " << text(rows[k][1]) << ", "
@@ -175,8 +176,7 @@ TEST(Golden, KernelMatchesTheDensityFingerprint) {
       EXPECT_EQ(found->at("field_key").get<std::string>(), cg::field_key(m))
           << "cloud '" << name << "' variant '" << v.name
           << "': the field key changed for the same parameters (keys must stay stable within a kFieldKeyVersion;"
-          << " a change of the kernel's inputs, a preset or a variant needs a regeneration with " << kRegenerate
-          << ")";
+          << " a change of the kernel's inputs, a preset or a variant needs a regeneration with " << kRegenerate << ")";
       ++cases_checked;
     }
   }

@@ -96,8 +96,8 @@ TEST(Grid, SparseBakeEqualsDenseBake) {
       const int x = int(i % std::size_t(sparse.grid.n[0]));
       const int y = int((i / std::size_t(sparse.grid.n[0])) % std::size_t(sparse.grid.n[1]));
       const int z = int(i / (std::size_t(sparse.grid.n[0]) * std::size_t(sparse.grid.n[1])));
-      ASSERT_EQ(a[i], b[i]) << s.name << ": voxel (" << x << ", " << y << ", " << z << ") sparse " << a[i]
-                            << " dense " << b[i] << " params " << cgtest::describe(s.params);
+      ASSERT_EQ(a[i], b[i]) << s.name << ": voxel (" << x << ", " << y << ", " << z << ") sparse " << a[i] << " dense "
+                            << b[i] << " params " << cgtest::describe(s.params);
     }
     EXPECT_GT(active, 0) << s.name;
     std::cout << "[ figures  ] " << s.name << " at " << res << ": tiles " << sparse.stats.tiles_total << ", skipped "
@@ -132,11 +132,12 @@ TEST(Grid, EveryTileTheBoundProvesEmptyIsEmpty) {
             for (int j = lo[1]; j < hi[1]; ++j)
               for (int i = lo[0]; i < hi[0]; ++i) {
                 const vec3 p = g.centre(i, j, k);
-                ASSERT_EQ(cg::density(m, p), 0.0f) << s.name << ": voxel (" << i << ", " << j << ", " << k << ") at "
-                                                   << cgtest::str(p) << " in a tile proven empty (bound " << bound
-                                                   << ")";
+                ASSERT_EQ(cg::density(m, p), 0.0f)
+                    << s.name << ": voxel (" << i << ", " << j << ", " << k << ") at " << cgtest::str(p)
+                    << " in a tile proven empty (bound " << bound << ")";
                 if (cg::inside_box(cg::generated(m, p))) {
-                  ASSERT_LE(cg::shape_at(m, p) + 0.5f * std::fabs(m.distortion), 0.0f) << s.name << " at " << cgtest::str(p);
+                  ASSERT_LE(cg::shape_at(m, p) + 0.5f * std::fabs(m.distortion), 0.0f)
+                      << s.name << " at " << cgtest::str(p);
                 }
               }
         }
@@ -272,8 +273,8 @@ TEST(Grid, LevelOfDetail) {
   }
   const double rms = std::sqrt(diff2 / double(a.size())), ref = std::sqrt(ref2 / double(a.size()));
   std::cout << "[ figures  ] LOD at " << res << "^3 (perlin " << used.perlin_octaves << " of 5 octaves, worley "
-            << used.worley_octaves << " of 2): RMS difference " << rms << " = " << rms / ref
-            << " of the density RMS " << ref << ", largest " << worst << "\n";
+            << used.worley_octaves << " of 2): RMS difference " << rms << " = " << rms / ref << " of the density RMS "
+            << ref << ", largest " << worst << "\n";
   EXPECT_GT(rms, 0.0) << "LOD dropped nothing at this resolution";
   EXPECT_LT(rms, 0.05 * ref);
 }
@@ -284,10 +285,12 @@ TEST(Grid, ProgressReturningFalseCancelsTheBake) {
   o.resolution = 16;
   o.threads = 2;
   int calls = 0;
-  EXPECT_THROW(cg::bake(m, o, [&](std::int64_t, std::int64_t) {
-    ++calls;
-    return false;
-  }), cg::Cancelled);
+  EXPECT_THROW(cg::bake(m, o,
+                        [&](std::int64_t, std::int64_t) {
+                          ++calls;
+                          return false;
+                        }),
+               cg::Cancelled);
   EXPECT_GT(calls, 0);
   // A progress that says yes gets the final call with done == total.
   std::int64_t last_done = -1, last_total = -2;

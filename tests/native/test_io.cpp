@@ -306,8 +306,8 @@ TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
     const double expected = std::round(255.0 * (1.0 - std::exp(-double(d[i]) / 4.0)));
     lit += img.pixels[i] > 0;
     if (std::fabs(img.pixels[i] - expected) > 1.0 && ++bad <= 10)
-      ADD_FAILURE() << "pixel " << i % s.width << "," << i / s.width << ": level " << img.pixels[i]
-                    << ", density " << d[i] << " maps to " << expected << " (axis z, offset 0.4)";
+      ADD_FAILURE() << "pixel " << i % s.width << "," << i / s.width << ": level " << img.pixels[i] << ", density "
+                    << d[i] << " maps to " << expected << " (axis z, offset 0.4)";
   }
   EXPECT_EQ(bad, 0);
   EXPECT_GT(lit, 0) << "the slice through the cumulus should show cloud";

@@ -142,7 +142,7 @@ TEST(Model, HandValuesCurveProfile) {
   //  edge midpoint (1/2, 1, 0): sample 0 = 0, T_y = 1              -> -1
   //  corner (0, 0, 1): sample 16 = 0                               -> -2
   //  (1/2, 1/2, 3/32): h = 1.5/16 -> (0.5 + 0.8)/2 = 0.65          -> D = 6.5
-  const float curve[CG_CURVE_POINTS] = {0, 0.5f, 0.8f, 0.9f, 1, 0.9f, 0.8f, 0.75f, 0.7f,
+  const float curve[CG_CURVE_POINTS] = {0,    0.5f, 0.8f, 0.9f, 1,    0.9f, 0.8f,  0.75f, 0.7f,
                                         0.6f, 0.5f, 0.4f, 0.3f, 0.2f, 0.1f, 0.05f, 0};
   cg::Params p;
   p.set(cg::CLOUD_SCALE, 1.0f);

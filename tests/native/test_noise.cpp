@@ -123,8 +123,8 @@ TEST(Noise, FbmBoundsForEveryGainAndOctaveCount) {
           const cg::vec3 p(rng.uniformf(-100, 100), rng.uniformf(-100, 100), rng.uniformf(-100, 100));
           const float w = rng.uniformf(0, 256);
           const float v = cg::cg_perlin_fbm(p, w, o, lod, g, 7);
-          ASSERT_TRUE(v >= -1.0f && v <= 1.0f) << "perlin_fbm at " << cgtest::str(p) << " w " << w << " octaves "
-                                               << o << " lod " << lod << " gain " << g << " = " << v;
+          ASSERT_TRUE(v >= -1.0f && v <= 1.0f) << "perlin_fbm at " << cgtest::str(p) << " w " << w << " octaves " << o
+                                               << " lod " << lod << " gain " << g << " = " << v;
           sum += double(v);
           sum2 += double(v) * double(v);
         }
@@ -207,8 +207,8 @@ TEST(Noise, Perlin4Lipschitz) {
         << "perlin4 at (" << a[0] << ", " << a[1] << ", " << a[2] << ", " << a[3] << ") vs (" << b[0] << ", " << b[1]
         << ", " << b[2] << ", " << b[3] << ")";
   }
-  std::cout << "[ figures  ] perlin4 empirical Lipschitz max over " << n << " pairs: " << worst
-            << " (analytic bound " << kPerlinLipschitz << ")\n";
+  std::cout << "[ figures  ] perlin4 empirical Lipschitz max over " << n << " pairs: " << worst << " (analytic bound "
+            << kPerlinLipschitz << ")\n";
 }
 
 TEST(Noise, WorleyF1IsOneLipschitz) {
@@ -239,10 +239,11 @@ TEST(Noise, WorleyF1IsOneLipschitz) {
     double dist2 = 0;
     for (int k = 0; k < 3; ++k) dist2 += (double(a[k]) - double(b[k])) * (double(a[k]) - double(b[k]));
     const double dist = std::sqrt(dist2);
-    const double diff = std::fabs(double(cg::cg_worley_f1(a[0], a[1], a[2], 1)) - double(cg::cg_worley_f1(b[0], b[1], b[2], 1)));
+    const double diff =
+        std::fabs(double(cg::cg_worley_f1(a[0], a[1], a[2], 1)) - double(cg::cg_worley_f1(b[0], b[1], b[2], 1)));
     if (!wide) worst = std::max(worst, diff / dist);
-    ASSERT_LE(diff, dist * (1 + 1e-4) + eps)
-        << "worley_f1 at (" << a[0] << ", " << a[1] << ", " << a[2] << ") vs (" << b[0] << ", " << b[1] << ", " << b[2] << ")";
+    ASSERT_LE(diff, dist * (1 + 1e-4) + eps) << "worley_f1 at (" << a[0] << ", " << a[1] << ", " << a[2] << ") vs ("
+                                             << b[0] << ", " << b[1] << ", " << b[2] << ")";
   }
   std::cout << "[ figures  ] worley_f1 empirical Lipschitz max over " << n << " pairs: " << worst << " (bound 1)\n";
 }
@@ -369,7 +370,8 @@ TEST(Noise, PeriodicWithPeriod256) {
     for (int k = 0; k < 4; ++k) p[k] = rng.uniformf(-64, 64);
     std::copy(p, p + 4, q);
     q[axis] += shift;
-    ASSERT_NEAR(double(cg::cg_perlin4(p[0], p[1], p[2], p[3], 1)), double(cg::cg_perlin4(q[0], q[1], q[2], q[3], 1)), 1.3e-3)
+    ASSERT_NEAR(double(cg::cg_perlin4(p[0], p[1], p[2], p[3], 1)), double(cg::cg_perlin4(q[0], q[1], q[2], q[3], 1)),
+                1.3e-3)
         << "perlin4 at (" << p[0] << ", " << p[1] << ", " << p[2] << ", " << p[3] << ") axis " << axis;
     if (axis < 3) {
       ASSERT_NEAR(double(cg::cg_worley_f1(p[0], p[1], p[2], 1)), double(cg::cg_worley_f1(q[0], q[1], q[2], 1)), 7e-5)

@@ -138,12 +138,12 @@ TEST(Params, PresetMaterials) {
       EXPECT_NE(std::find(cg::material_keys().begin(), cg::material_keys().end(), m.key), cg::material_keys().end());
   }
   const auto parse = [](const std::string& material) {
-    return [material] {
-      cg::parse_presets(R"({"x": {"description": "d", "params": {}, "material": )" + material + "}}");
-    };
+    return
+        [material] { cg::parse_presets(R"({"x": {"description": "d", "params": {}, "material": )" + material + "}}"); };
   };
   EXPECT_EQ(cg::parse_presets(R"({"x": {"params": {}}})").at(0).material_json, "{}");
-  const auto ok = cg::parse_presets(R"({"x": {"params": {}, "material": {"anisotropy": 0.5, "color": [1, 0.9, 0.8]}}})");
+  const auto ok =
+      cg::parse_presets(R"({"x": {"params": {}, "material": {"anisotropy": 0.5, "color": [1, 0.9, 0.8]}}})");
   ASSERT_EQ(ok.at(0).material.size(), 2u);
   EXPECT_EQ(ok.at(0).material[1].values, (std::vector<double>{1, 0.9, 0.8}));
   expect_param_error(parse(R"({"shininess": 1})"), {"preset 'x'", "unknown material key 'shininess'", "anisotropy"},

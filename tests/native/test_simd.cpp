@@ -9,11 +9,11 @@
 // prints the level, the point, both values and the parameters.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstdlib>
-#include <cstdio>
-#include <cstring>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -37,9 +37,12 @@ vec3 point_for(const cg::Model& m, Rng& rng, std::int64_t i) {
   const int kind = int(i % 8);
   for (int a = 0; a < 3; ++a) {
     const double half = 0.5 * double(m.box[a]);
-    if (kind < 4) p[a] = rng.uniformf(-half, half);
-    else if (kind < 6) p[a] = rng.uniformf(-1.5 * half, 1.5 * half);
-    else p[a] = float(std::pow(10.0, rng.uniform(-3, 6.3)) * (rng.unit() < 0.5 ? -1 : 1));
+    if (kind < 4)
+      p[a] = rng.uniformf(-half, half);
+    else if (kind < 6)
+      p[a] = rng.uniformf(-1.5 * half, 1.5 * half);
+    else
+      p[a] = float(std::pow(10.0, rng.uniform(-3, 6.3)) * (rng.unit() < 0.5 ? -1 : 1));
   }
   return p;
 }

@@ -23,12 +23,12 @@ inline constexpr float kDefaultPixelsPerVoxel = 1.0f;
 
 struct CameraView {
   double camera_to_cloud[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};  // row-major, rigid
-  float tan_half_fov[2] = {0.36f, 0.27f};  // horizontal, vertical
-  int resolution[2] = {320, 240};          // image pixels
-  float near_clip = 0.1f;                  // scene units in front of the camera
-  float margin = -1.0f;                    // scene units; < 0: default_margin()
-  float pixels_per_voxel = 0.0f;           // voxel edge in pixel footprints (0: kDefaultPixelsPerVoxel)
-  int light_count = 0;                     // directions towards the lights (sun), cloud frame
+  float tan_half_fov[2] = {0.36f, 0.27f};                                                   // horizontal, vertical
+  int resolution[2] = {320, 240};                                                           // image pixels
+  float near_clip = 0.1f;         // scene units in front of the camera
+  float margin = -1.0f;           // scene units; < 0: default_margin()
+  float pixels_per_voxel = 0.0f;  // voxel edge in pixel footprints (0: kDefaultPixelsPerVoxel)
+  int light_count = 0;            // directions towards the lights (sun), cloud frame
   std::array<vec3, 4> lights{};
 };
 
@@ -65,13 +65,13 @@ bool box_outside(const Frustum& f, vec3 lo, vec3 hi);
 float default_margin(const Model& m);
 
 struct CameraFit {
-  bool visible = false;      // some of the box is inside the (un-widened) frustum
-  float nearest_depth = 0;   // smallest view depth of a visible box point (>= near_clip)
-  float footprint = 0;       // one pixel's size at that depth, scene units
-  float voxel = 0;           // footprint × pixels_per_voxel (not visible: the longest box side)
-  float margin = 0;          // the margin used
-  Frustum region;            // the frustum widened by the margin: tiles outside it are not baked
-                             // (not visible: a region nothing passes)
+  bool visible = false;     // some of the box is inside the (un-widened) frustum
+  float nearest_depth = 0;  // smallest view depth of a visible box point (>= near_clip)
+  float footprint = 0;      // one pixel's size at that depth, scene units
+  float voxel = 0;          // footprint × pixels_per_voxel (not visible: the longest box side)
+  float margin = 0;         // the margin used
+  Frustum region;           // the frustum widened by the margin: tiles outside it are not baked
+                            // (not visible: a region nothing passes)
 };
 CameraFit fit_camera(const Model& m, const CameraView& c);
 

@@ -42,12 +42,12 @@ GridSpec grid_for_voxel(const Model& m, float voxel);
 
 struct BakeOptions {
   int resolution = 128;
-  bool skip_empty = true;  // skip tiles whose shape bound proves them empty
-  bool lod = true;         // do not evaluate octaves finer than a voxel can hold
-  float tolerance = 0.0f;  // voxels with density <= tolerance are dropped (background 0)
-  int threads = 0;         // 0 = one per hardware thread
-  float voxel = 0.0f;      // > 0: this voxel edge instead of `resolution` (camera-aware bake)
-  bool use_region = false; // bake only tiles that meet `region` (camera-aware bake)
+  bool skip_empty = true;   // skip tiles whose shape bound proves them empty
+  bool lod = true;          // do not evaluate octaves finer than a voxel can hold
+  float tolerance = 0.0f;   // voxels with density <= tolerance are dropped (background 0)
+  int threads = 0;          // 0 = one per hardware thread
+  float voxel = 0.0f;       // > 0: this voxel edge instead of `resolution` (camera-aware bake)
+  bool use_region = false;  // bake only tiles that meet `region` (camera-aware bake)
   Frustum region{};
   // A brick of a bake split across processes or machines: of the grid's tiles,
   // in index order (x fastest, then y, then z), the brick_index-th of
@@ -66,7 +66,7 @@ TileSpan brick_tiles(std::int64_t total, const BakeOptions& options);
 GridSpec bake_grid(const Model& m, const BakeOptions& options);
 
 struct Tile {
-  std::array<int, 3> index;  // voxel index of the tile's first voxel
+  std::array<int, 3> index;               // voxel index of the tile's first voxel
   std::array<float, kTileVoxels> values;  // x fastest: values[(k*8 + j)*8 + i]
 };
 
@@ -101,7 +101,7 @@ struct SliceSpec {
   int axis = 0;         // 0 = x, 1 = y, 2 = z: the axis the plane is perpendicular to
   float offset = 0.5f;  // plane position as a generated coordinate in [0, 1] (0.5 = centre)
   int width = 256, height = 256;
-  bool lod = false;     // limit octaves to the pixel footprint
+  bool lod = false;  // limit octaves to the pixel footprint
   int threads = 0;
 };
 

@@ -57,8 +57,8 @@ inline float shape_at(const Model& m, vec3 p) { return shape_at_generated(m, gen
 inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   const vec3 pw = p * m.worley_frequency + m.worley_offset;
   const vec3 pp = p * m.perlin_frequency + m.perlin_offset;
-  return cg_cloud_noise(pw, pp, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence,
-                        m.noise_detail, m.noise_whisp, lod.worley_octaves, lod.perlin_octaves, m.seed);
+  return cg_cloud_noise(pw, pp, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail,
+                        m.noise_whisp, lod.worley_octaves, lod.perlin_octaves, m.seed);
 }
 
 // Density at a local point: 0 outside the box and wherever the shape proves

@@ -20,8 +20,7 @@ int resolve_threads(int requested);
 
 // Runs body(item, worker) for every item in [0, count) on `threads` workers
 // (worker in [0, threads)). Returns true when every item ran, false when cancelled.
-bool parallel_for(std::int64_t count, int threads,
-                  const std::function<void(std::int64_t item, int worker)>& body,
+bool parallel_for(std::int64_t count, int threads, const std::function<void(std::int64_t item, int worker)>& body,
                   const Progress& progress = {});
 
 }  // namespace cg

@@ -45,7 +45,7 @@ const std::vector<Preset>& presets();
 std::vector<Preset> parse_presets(std::string_view text);
 // nullptr when there is no such preset.
 const Preset* find_preset(std::string_view name);  // ignoring case ("Cumulus")
-std::vector<std::string> preset_names();            // in order, for messages
+std::vector<std::string> preset_names();           // in order, for messages
 // The raw JSON text of the presets file (for the add-on and the docs).
 const char* presets_json();
 

@@ -32,10 +32,10 @@ struct ParamDecl {
   const char* label;  // what the artist sees (the thesis's names)
   const char* group;  // "Cloud Main", "Cloud Noise", "Animation", "Box"
   Kind kind;
-  float default_value[3];  // a curve's default is kDefaultCurve
-  float min, max;          // hard limits: anything outside is refused at the API boundary
+  float default_value[3];    // a curve's default is kDefaultCurve
+  float min, max;            // hard limits: anything outside is refused at the API boundary
   float soft_min, soft_max;  // slider range
-  float map_lo, map_hi;    // physical = map_lo + (map_hi - map_lo) * value (0,1 = identity)
+  float map_lo, map_hi;      // physical = map_lo + (map_hi - map_lo) * value (0,1 = identity)
   const char* unit;
   const char* help;
 };
@@ -51,11 +51,9 @@ enum P : int {
 extern const ParamDecl kParams[PARAM_COUNT];
 extern const float kDefaultCurve[CG_CURVE_POINTS];
 
-constexpr int component_count(Kind k) {
-  return k == Kind::Vector ? 3 : k == Kind::Curve ? CG_CURVE_POINTS : 1;
-}
-int slot_of(P p);       // first slot of parameter p in Params::values
-int slot_count();       // total number of slots
+constexpr int component_count(Kind k) { return k == Kind::Vector ? 3 : k == Kind::Curve ? CG_CURVE_POINTS : 1; }
+int slot_of(P p);                       // first slot of parameter p in Params::values
+int slot_count();                       // total number of slots
 std::vector<std::string> param_keys();  // every parameter's key, in order (for messages)
 std::optional<P> find_param(std::string_view key);
 

@@ -36,8 +36,8 @@ constexpr int kPad = 16;     // noise loops run over a multiple of this many lan
 // span at most kSpan cells per axis, the feature points of those cells and their neighbours are hashed
 // once into a table and each lane reads its 27. The distances are the same expressions on the same
 // values, in the same order: bit for bit cg_worley_f1.
-constexpr int kSpan = 3;                  // widest cell range per axis the table serves
-constexpr int kSide = kSpan + 2;          // ... plus one neighbour on each side
+constexpr int kSpan = 3;          // widest cell range per axis the table serves
+constexpr int kSide = kSpan + 2;  // ... plus one neighbour on each side
 constexpr int kCells = kSide * kSide * kSide;
 
 struct WorleyTable {

@@ -6,8 +6,8 @@
 
 #include "cloudgen/model.h"
 
-#define CG_SIMD_LEVEL_ENTRY(ns) \
-  namespace cg::ns {            \
+#define CG_SIMD_LEVEL_ENTRY(ns)                                                                       \
+  namespace cg::ns {                                                                                  \
   void density_points(const Model& m, const vec3* points, std::size_t n, const Lod& lod, float* out); \
   }
 

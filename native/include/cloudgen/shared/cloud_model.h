@@ -17,24 +17,24 @@
 
 CG_NAMESPACE_BEGIN
 
-#define CG_CURVE_POINTS 17             /* shape curve samples at h = 0, 1/16, ..., 1 */
-#define CG_PROFILE_FALLOFF 16          /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
-#define CG_DENSITY_SCALE 20             /* physical density = 20 x the Density slider, per scene unit */
-#define CG_BASE_FREQUENCY CG_FLOAT(2.5) /* Worley cells per scene unit at Overall Scale 1 */
+#define CG_CURVE_POINTS 17               /* shape curve samples at h = 0, 1/16, ..., 1 */
+#define CG_PROFILE_FALLOFF 16            /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
+#define CG_DENSITY_SCALE 20              /* physical density = 20 x the Density slider, per scene unit */
+#define CG_BASE_FREQUENCY CG_FLOAT(2.5)  /* Worley cells per scene unit at Overall Scale 1 */
 #define CG_PERLIN_RELATIVE CG_FLOAT(2.0) /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
-#define CG_WORLEY_OCTAVES 2            /* thesis 4.2: fixed at 2 */
+#define CG_WORLEY_OCTAVES 2              /* thesis 4.2: fixed at 2 */
 #define CG_PERLIN_CONTRAST CG_FLOAT(1.0) /* P01 = 1/2 + contrast * fBm */
-#define CG_WAVE_FREQUENCY 1            /* sine periods per Worley cell along x */
-#define CG_WAVE_WARP CG_FLOAT(0.75)    /* phase warp of the sine by the gradient fBm, in periods */
+#define CG_WAVE_FREQUENCY 1              /* sine periods per Worley cell along x */
+#define CG_WAVE_WARP CG_FLOAT(0.75)      /* phase warp of the sine by the gradient fBm, in periods */
 #define CG_TWO_PI CG_FLOAT(6.2831853)
 #define CG_COORD_LIMIT CG_FLOAT(1.0e9) /* kernel clamp of offsets and times (finite in, finite out) */
 #define CG_SEED_SALT_WORLEY 1597334677
 /* Kernel clamps, shared with the region bound (model.cpp: shape_upper_bound, core_max) so that the bound
  * and the kernel evaluate the same profile. Wider than the declared parameter ranges: they only keep the
  * formulas finite (docs/model.md, "The kernel's safe domain"). */
-#define CG_CLOUD_SCALE_MIN CG_FLOAT(0.001)  /* |Cloud Scale| */
+#define CG_CLOUD_SCALE_MIN CG_FLOAT(0.001) /* |Cloud Scale| */
 #define CG_CLOUD_SCALE_MAX CG_FLOAT(1000.0)
-#define CG_EXPONENT_MIN CG_FLOAT(0.01)      /* Shape Exponent */
+#define CG_EXPONENT_MIN CG_FLOAT(0.01) /* Shape Exponent */
 #define CG_EXPONENT_MAX CG_FLOAT(100.0)
 #define CG_NOISE_SCALE_MIN CG_FLOAT(0.0001) /* Overall Scale and Noise Scale */
 #define CG_NOISE_SCALE_MAX CG_FLOAT(10000.0)
@@ -87,9 +87,7 @@ CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, flo
 
 /* The distortion term F (1 - O) with O = N + 1/2 lies in [-|F|/2, |F|/2]; where
  * the shape alone is at most -|F|/2 the density is provably 0. */
-CG_FN int cg_shape_proves_empty(float shape, float distortion) {
-  return shape + fabs(distortion) / 2 <= 0;
-}
+CG_FN int cg_shape_proves_empty(float shape, float distortion) { return shape + fabs(distortion) / 2 <= 0; }
 
 /* Cloud Main, eq. 3.4 with O = N + 1/2: D = S - T_x^2 - T_y^2 + F (1/2 - N),
  * clamped at 0 and scaled by the density multiplier (>= 0). */
@@ -125,8 +123,8 @@ CG_FN float cg_lod_octaves(float frequency, float footprint) {
 /* Offset of the noise field, in noise-lattice units, reduced modulo the
  * lattice period: Stationary = 1 means the texture travels with the object, 0
  * that it stays fixed in the world; wind shifts it by -velocity * time. */
-CG_FN CG_VEC3 cg_noise_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_direction,
-                              float wind_strength, float time, float frequency) {
+CG_FN CG_VEC3 cg_noise_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_direction, float wind_strength,
+                              float time, float frequency) {
   /* unit direction, computed from the direction scaled by its largest component
    * so that neither tiny nor huge directions under- or overflow */
   float big = max(max(fabs(wind_direction[0]), fabs(wind_direction[1])), fabs(wind_direction[2]));
@@ -136,8 +134,7 @@ CG_FN CG_VEC3 cg_noise_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_d
     float len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     unit = CG_VEC3(d[0] / len, d[1] / len, d[2] / len);
   }
-  float travel = clamp(wind_strength, -CG_COORD_LIMIT, CG_COORD_LIMIT) *
-                 clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
+  float travel = clamp(wind_strength, -CG_COORD_LIMIT, CG_COORD_LIMIT) * clamp(time, -CG_COORD_LIMIT, CG_COORD_LIMIT);
   float follow = 1 - clamp(stationary, 0, 1);
   CG_VEC3 o = CG_VEC3(0, 0, 0);
   for (int i = 0; i < 3; i += 1) {
@@ -181,16 +178,14 @@ CG_FN float cg_cloud_noise_combine(float p, float worley, float sine, float wi, 
  *   N  = clamp(mix(1/2, mix(W, Sw, Wave), Worley Influence)
  *              * mix(1, 1 + 2 contrast P, Noise Influence), 0, 1)   (Perlin–Worley)
  * pw and pp are the points in Worley and gradient-noise lattice units. */
-CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influence,
-                           float worley_clump, float wave, float noise_influence,
-                           float noise_detail, float noise_whisp, float lod_worley_octaves,
+CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influence, float worley_clump, float wave,
+                           float noise_influence, float noise_detail, float noise_whisp, float lod_worley_octaves,
                            float lod_perlin_octaves, int seed) {
   float wi = clamp(worley_influence, 0, 1);
   float wv = clamp(wave, 0, 1);
   float ni = clamp(noise_influence, 0, 1);
   float p = 0;
-  if (cg_noise_uses_perlin(wi, wv, ni))
-    p = cg_perlin_fbm(pp, w4, noise_detail, lod_perlin_octaves, noise_whisp, seed);
+  if (cg_noise_uses_perlin(wi, wv, ni)) p = cg_perlin_fbm(pp, w4, noise_detail, lod_perlin_octaves, noise_whisp, seed);
   float worley = CG_FLOAT(0.5);
   if (cg_noise_uses_worley(wi, wv))
     worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump, seed ^ CG_SEED_SALT_WORLEY);

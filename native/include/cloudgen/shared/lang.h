@@ -76,9 +76,7 @@ constexpr vec3 operator*(float s, vec3 a) { return a * s; }
 CG_FN int cg_imul(int a, int b) {
   return static_cast<int>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
 }
-CG_FN int cg_shr(int a, int n) {
-  return static_cast<int>(static_cast<std::uint32_t>(a) >> n);
-}
+CG_FN int cg_shr(int a, int n) { return static_cast<int>(static_cast<std::uint32_t>(a) >> n); }
 
 /* OSL-compatible float math. Unqualified calls in namespace cg find these. */
 CG_FN float floor(float x) { return std::floor(x); }

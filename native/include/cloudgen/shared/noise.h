@@ -13,11 +13,11 @@
 
 CG_NAMESPACE_BEGIN
 
-#define CG_PERIOD 256          /* lattice period of every noise, in lattice cells */
+#define CG_PERIOD 256 /* lattice period of every noise, in lattice cells */
 #define CG_PERIOD_MASK 255
-#define CG_MAX_OCTAVES 16      /* hard cap on fBm octaves (also the kernel's clamp) */
-#define CG_MAX_GAIN 8          /* kernel clamp of fBm gain */
-#define CG_WORLEY_JITTER CG_FLOAT(0.9)  /* feature point stays in the middle 90 % of its cell */
+#define CG_MAX_OCTAVES 16              /* hard cap on fBm octaves (also the kernel's clamp) */
+#define CG_MAX_GAIN 8                  /* kernel clamp of fBm gain */
+#define CG_WORLEY_JITTER CG_FLOAT(0.9) /* feature point stays in the middle 90 % of its cell */
 /* 1/1.25: just above the largest |raw 4D gradient noise| seen in 2e6 random samples (1.13);
  * the result is clamped to [-1, 1] so the bound holds by construction. */
 #define CG_PERLIN_NORM CG_FLOAT(0.8)
@@ -28,7 +28,7 @@ CG_NAMESPACE_BEGIN
 CG_FN int cg_mix32(int v) {
   int x = v;
   x = x ^ cg_shr(x, 16);
-  x = cg_imul(x, 2146121005);  /* 0x7feb352d */
+  x = cg_imul(x, 2146121005); /* 0x7feb352d */
   x = x ^ cg_shr(x, 15);
   x = cg_imul(x, -2073254261); /* 0x846ca68b as a signed 32-bit int */
   x = x ^ cg_shr(x, 16);
@@ -67,15 +67,15 @@ CG_FN float cg_perlin4_x(int hy, int ix0, int ix1, float dx, float dy, float dz,
   return mix(g0, g1, ux);
 }
 
-CG_FN float cg_perlin4_xy(int hz, int ix0, int ix1, int iy0, int iy1,
-                          float dx, float dy, float dz, float dw, float ux, float uy) {
+CG_FN float cg_perlin4_xy(int hz, int ix0, int ix1, int iy0, int iy1, float dx, float dy, float dz, float dw, float ux,
+                          float uy) {
   float a = cg_perlin4_x(cg_mix32(iy0 ^ hz), ix0, ix1, dx, dy, dz, dw, ux);
   float b = cg_perlin4_x(cg_mix32(iy1 ^ hz), ix0, ix1, dx, dy - 1, dz, dw, ux);
   return mix(a, b, uy);
 }
 
-CG_FN float cg_perlin4_xyz(int hw, int ix0, int ix1, int iy0, int iy1, int iz0, int iz1,
-                           float dx, float dy, float dz, float dw, float ux, float uy, float uz) {
+CG_FN float cg_perlin4_xyz(int hw, int ix0, int ix1, int iy0, int iy1, int iz0, int iz1, float dx, float dy, float dz,
+                           float dw, float ux, float uy, float uz) {
   float a = cg_perlin4_xy(cg_mix32(iz0 ^ hw), ix0, ix1, iy0, iy1, dx, dy, dz, dw, ux, uy);
   float b = cg_perlin4_xy(cg_mix32(iz1 ^ hw), ix0, ix1, iy0, iy1, dx, dy, dz - 1, dw, ux, uy);
   return mix(a, b, uz);
@@ -107,10 +107,8 @@ CG_FN float cg_perlin4(float px, float py, float pz, float pw, int seed) {
   float uy = cg_fade(dy);
   float uz = cg_fade(dz);
   float uw = cg_fade(dw);
-  float n0 = cg_perlin4_xyz(cg_mix32(iw0 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1,
-                            dx, dy, dz, dw, ux, uy, uz);
-  float n1 = cg_perlin4_xyz(cg_mix32(iw1 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1,
-                            dx, dy, dz, dw - 1, ux, uy, uz);
+  float n0 = cg_perlin4_xyz(cg_mix32(iw0 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1, dx, dy, dz, dw, ux, uy, uz);
+  float n1 = cg_perlin4_xyz(cg_mix32(iw1 ^ seed), ix0, ix1, iy0, iy1, iz0, iz1, dx, dy, dz, dw - 1, ux, uy, uz);
   return clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
 }
 
@@ -165,8 +163,8 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
  * whole octaves, the fractional part for the last one (a smooth fade), 0 after. */
 CG_FN float cg_octave_weight(float octaves, int k) { return clamp(octaves - k, 0, 1); }
 
-#define CG_FBM_GRADIENT 0  /* octave term: 4D gradient noise, in [-1, 1], mean 0 */
-#define CG_FBM_WORLEY 1    /* octave term: smoothstep(0, 1, Worley F1), in [0, 1], mean about 1/2 */
+#define CG_FBM_GRADIENT 0 /* octave term: 4D gradient noise, in [-1, 1], mean 0 */
+#define CG_FBM_WORLEY 1   /* octave term: smoothstep(0, 1, Worley F1), in [0, 1], mean about 1/2 */
 
 /* The term of octave k (frequency freq = 2^k) at p: the batched kernel
  * (native/src/simd/) calls it lane by lane, cg_fbm point by point. */
