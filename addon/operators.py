@@ -3,6 +3,7 @@ All of them work in background mode (no window, area or region needed)."""
 import bpy
 
 from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props
+from .panel import tooltip
 
 
 def osl_problem(context):
@@ -127,6 +128,35 @@ class CLOUDGEN_OT_time_from_frame(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class CLOUDGEN_OT_parameter_help(bpy.types.Operator):
+    """What this setting does"""
+    bl_idname = "cloudgen.parameter_help"
+    bl_label = "Help"
+    bl_options = {"INTERNAL"}
+
+    name: bpy.props.StringProperty(name="Parameter", options={"HIDDEN"})
+
+    @classmethod
+    def help_text(cls, name) -> str:
+        """The declared help of parameter `name` (no trailing period), "" when unknown."""
+        for p in bridge.parameters():
+            if p["name"] == name:
+                text = tooltip(p["help"])
+                return f"{p['label']}: {text}" + (f" ({p['unit']})" if p.get("unit") else "")
+        return ""
+
+    @classmethod
+    def description(cls, context, properties):
+        # Hovering a slider in the sidebar shows Blender's generic socket tooltip
+        # (the socket's value property is Blender's own); this button beside it
+        # shows the declared help instead.
+        return cls.help_text(properties.name) or "No help for this setting"
+
+    def execute(self, context):
+        self.report({"INFO"}, self.help_text(self.name) or "No help for this setting")
+        return {"FINISHED"}
+
+
 def menu_add(self, context):
     self.layout.operator_menu_enum(CLOUDGEN_OT_add_cloud.bl_idname, "cloud_type",
                                    text="Cloud", icon="OUTLINER_OB_VOLUME")
@@ -135,7 +165,7 @@ def menu_add(self, context):
 MENUS = ("VIEW3D_MT_volume_add", "VIEW3D_MT_mesh_add")
 
 classes = (CLOUDGEN_OT_add_cloud, CLOUDGEN_OT_refresh_preview, CLOUDGEN_OT_render_settings,
-           CLOUDGEN_OT_time_from_frame)
+           CLOUDGEN_OT_time_from_frame, CLOUDGEN_OT_parameter_help)
 
 
 def on_register():

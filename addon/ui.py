@@ -73,20 +73,31 @@ class CLOUDGEN_PT_main(SidebarPanel, bpy.types.Panel):
         layout.operator(operators.CLOUDGEN_OT_render_settings.bl_idname, icon="SCENE")
 
 
+def _help_button(row, p):
+    """A "?" beside a setting: its tooltip is the declared help (the slider's own is Blender's)."""
+    op = row.operator(operators.CLOUDGEN_OT_parameter_help.bl_idname, text="", icon="QUESTION", emboss=False)
+    op.name = p["name"]
+
+
 def _draw_sockets(layout, node, params, obj=None):
     for p in params:
         if p["label"] in node.inputs:
             sock = node.inputs[p["label"]]
             if sock.is_linked:
                 layout.label(text=f"{p['label']}: linked")
-            elif p["label"] == SHAPE_SOURCE and obj is not None:
-                layout.label(text=f"{p['label']}:")
-                layout.row(align=True).prop(obj, "cloudgen_shape_source", expand=True)
-            elif p["kind"] == "vector":
-                layout.label(text=f"{p['label']}:")
-                layout.prop(sock, "default_value", text="")
-            else:
-                layout.prop(sock, "default_value", text=p["label"])
+                continue
+            if (p["label"] == SHAPE_SOURCE and obj is not None) or p["kind"] == "vector":
+                head = layout.row(align=True)
+                head.label(text=f"{p['label']}:")
+                _help_button(head, p)
+                if p["kind"] == "vector":
+                    layout.prop(sock, "default_value", text="")
+                else:
+                    layout.row(align=True).prop(obj, "cloudgen_shape_source", expand=True)
+                continue
+            row = layout.row(align=True)
+            row.prop(sock, "default_value", text=p["label"])
+            _help_button(row, p)
 
 
 class _ParamPanel(SidebarPanel):

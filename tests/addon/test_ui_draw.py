@@ -54,6 +54,15 @@ def test_panels_draw(addon, scene):
     assert ("prop", "Density") in main and ("curve", "mapping") in main
     noise = draw(ui.CLOUDGEN_PT_cloud_noise, bpy.context)
     assert ("prop", "Worley Influence") in noise
+    # every slider has a "?" whose tooltip is the declared help (the slider's own tooltip is Blender's)
+    helps = [e for e in main + noise if e == ("operator", "cloudgen.parameter_help")]
+    sliders = [e for e in main + noise if e[0] == "prop" and e[1] not in ("mapping", "cloudgen_shape_source")]
+    assert len(helps) >= len(sliders) > 0, (len(helps), sliders)
+    help_op = bpy.types.CLOUDGEN_OT_parameter_help
+    for p in addon.bridge.parameters():
+        text = help_op.help_text(p["name"])
+        assert text.startswith(p["label"] + ": ") and not text.endswith("."), (p["name"], text)
+        assert help_op.description(bpy.context, types.SimpleNamespace(name=p["name"])) == text
     anim = draw(ui.CLOUDGEN_PT_animation, bpy.context)
     assert ("prop", "Time") in anim and ("operator", "cloudgen.time_from_frame") in anim
     prev = draw(ui.CLOUDGEN_PT_preview, bpy.context)
