@@ -1,6 +1,10 @@
 // density_block.cpp — choosing the batched kernel's instruction-set level (see density_block.h).
 #include "cloudgen/density_block.h"
 
+#if defined(CLOUDGEN_SIMD_X86)
+#include <cpuid.h>
+#endif
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -32,6 +36,15 @@ Entry entry(SimdLevel level) {
   }
 }
 
+#if defined(CLOUDGEN_SIMD_X86)
+// CPUID leaf 1, ECX bit `bit` (F16C is bit 29, MOVBE bit 22): clang 14's
+// __builtin_cpu_supports does not know "f16c" or "movbe", cpuid does.
+bool cpuid1_ecx(int bit) {
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  return __get_cpuid(1, &a, &b, &c, &d) && ((c >> bit) & 1u);
+}
+#endif
+
 bool cpu_has(SimdLevel level) {
 #if defined(CLOUDGEN_SIMD_X86)
   __builtin_cpu_init();
@@ -42,8 +55,8 @@ bool cpu_has(SimdLevel level) {
       return __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt") && __builtin_cpu_supports("ssse3");
     case SimdLevel::Avx2:
       return cpu_has(SimdLevel::Baseline) && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-             __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("f16c") &&
-             __builtin_cpu_supports("movbe");
+             __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") && cpuid1_ecx(29) /* F16C */ &&
+             cpuid1_ecx(22) /* MOVBE */;
     case SimdLevel::Avx512:
       return cpu_has(SimdLevel::Avx2) && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
              __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
