@@ -22,7 +22,7 @@ else
 fi
 
 # Code and docs must not point at files users do not have.
-if git grep -nE '(^|[^/A-Za-z])(NOTES|DESIGN)\.md|/tmp/issue' -- native addon osl bench tests scripts docs README.md \
+if git grep -nE '(^|[^/A-Za-z])(NOTES|DESIGN)\.md|/tmp/''issue' -- native addon osl bench tests scripts docs README.md \
    ':!scripts/lint.sh'; then
   echo "lint: the lines above point at documents that are not in the repo (put the facts in docs/)"
   status=1
