@@ -147,8 +147,14 @@ def stored_key(native, vdb, path: str) -> str:
 
 
 def _temp_beside(path: str) -> str:
+    """A temporary file next to `path`, with the mode a new file gets (0666 less the
+    umask, as the CLI's files): mkstemp's 0600 would survive the rename and leave the
+    bake unreadable to a farm that renders as another user."""
     fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
                                dir=os.path.dirname(path) or ".")
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, 0o666 & ~umask)
     os.close(fd)
     return tmp
 

@@ -165,6 +165,24 @@ def test_sequence_copies_equal_fields_and_keeps_unchanged(bake_addon, tmp_path):
     assert r.counts() == "0 baked, 0 copied, 3 kept", r
 
 
+def test_baked_files_are_readable_by_others(bake_addon, tmp_path):
+    """A bake (and a copied frame) gets the mode of any new file, 0666 less the umask — as
+    the CLI's do; mkstemp's 0600 would stop a farm that renders as another user. Exact."""
+    from cloudgen import bake_local, bridge
+
+    native = bridge.require()
+    p = bridge.resolve_params({"preset": "stratus"})
+    entries = [(str(tmp_path / f"f_{i}.vdb"), p, i) for i in (1, 2)]
+    old = os.umask(0o022)
+    try:
+        r = bake_local.LocalBake(native, _vdb(), entries, bake_local.Settings(8)).run()
+    finally:
+        os.umask(old)
+    assert r.ok and r.counts() == "1 baked, 1 copied, 0 kept", r
+    for path, _, _ in entries:
+        assert os.stat(path).st_mode & 0o777 == 0o644, (path, oct(os.stat(path).st_mode))
+
+
 HOSTILE = sorted((ROOT / "tests" / "fuzz" / "regressions" / "vdb_header").glob("*.vdb"))
 
 
