@@ -15,8 +15,9 @@ The file is the one `cloudgen bake` writes for the same parameters and settings
   floats when asked;
 - metadata cloudgen_version, cloudgen_params (compact JSON, sorted keys),
   cloudgen_preset (when the parameters name one), cloudgen_time,
-  cloudgen_resolution (the longest grid side), cloudgen_bake_key (field key +
-  FNV-1a of the grid and settings, as native/src/field_key.cpp's bake_key),
+  cloudgen_resolution (the longest grid side), cloudgen_bake_key; the grid, the key,
+  the parameter JSON and the LOD octaves all come from `cloudgen_native.bake_plan`
+  (the core's own bake_grid / bake_key: nothing here recomputes them),
   cloudgen_lod_worley_octaves / cloudgen_lod_perlin_octaves.
 
 A sequence (several files) works like `cloudgen bake --sequence --update`: a
@@ -30,8 +31,6 @@ renamed); a cancel or an error leaves no partial file (finished files stay).
 """
 from __future__ import annotations
 
-import json
-import math
 import os
 import shutil
 import struct
@@ -46,9 +45,6 @@ except ImportError:  # loaded by its path in tests (bake_process loaded first as
 
 TILE = 8
 MAX_POINTS_PER_CALL = 1 << 20   # one density() call: 12 MiB of points, a cancel check between calls
-# shared/cloud_model.h, noise.h: the level-of-detail metadata (cg_lod_octaves)
-BASE_FREQUENCY, PERLIN_RELATIVE = 2.5, 2.0
-NOISE_SCALE_MIN, NOISE_SCALE_MAX, MAX_OCTAVES = 0.0001, 10000.0, 16
 
 
 @dataclass
@@ -65,65 +61,6 @@ class Cancelled(Exception):
 
 def _f32(x):
     return struct.unpack("<f", struct.pack("<f", float(x)))[0]
-
-
-def grid_spec(box, resolution: int):
-    """(n, voxel, origin) of the bake grid, computed in float32 like grid.cpp's grid_for_box."""
-    import numpy as np  # noqa: PLC0415 - Blender bundles numpy; imported where it is used
-
-    f = np.float32
-    b = [f(abs(float(x))) for x in box]
-    b = [min(max(x, f(1e-6)), f(1e9)) for x in b]
-    voxel = f(max(b)) / f(max(int(resolution), 1))
-    n = [max(1, int(math.ceil(f(b[a] / voxel) - f(1e-4)))) for a in range(3)]
-    origin = [f(f(-0.5) * f(n[a])) * voxel for a in range(3)]
-    return n, voxel, origin
-
-
-def _fnv(data: bytes, h: int = 14695981039346656037) -> int:
-    for byte in data:
-        h = ((h ^ byte) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
-    return h
-
-
-def bake_key(field_key: str, n, voxel, lod: bool, half: bool, tolerance: float) -> str:
-    """native/src/field_key.cpp bake_key for a whole (no brick, no camera region) bake."""
-    def fl(v):
-        v = _f32(v)
-        return struct.pack("<f", 0.0 if v == 0.0 else v)
-    data = b"".join(struct.pack("<i", int(x)) for x in n) + fl(voxel)
-    data += struct.pack("<iii", int(bool(lod)), int(bool(half)), 0) + fl(tolerance)
-    return f"{field_key}-{_fnv(data):016x}"
-
-
-def lod_octaves(params: dict, voxel: float, lod: bool):
-    """(worley, perlin) octaves the bake keeps (cg_lod_octaves); MAX_OCTAVES without LOD."""
-    def clamp(x, lo, hi):
-        return min(max(x, lo), hi)
-    if not lod or voxel <= 0:
-        return float(MAX_OCTAVES), float(MAX_OCTAVES)
-    worley = _f32(BASE_FREQUENCY * clamp(_f32(params["overall_scale"]), NOISE_SCALE_MIN, NOISE_SCALE_MAX))
-    perlin = _f32(worley * PERLIN_RELATIVE * clamp(_f32(params["noise_scale"]), NOISE_SCALE_MIN, NOISE_SCALE_MAX))
-    out = []
-    for freq in (worley, perlin):
-        out.append(_f32(clamp(1 + math.log2(0.5 / _f32(freq * voxel)), 1, MAX_OCTAVES)))
-    return tuple(out)
-
-
-def params_json(params: dict) -> str:
-    """The CLI's cloudgen_params text: sorted keys, compact, float32 values."""
-    def conv(v):
-        if isinstance(v, bool):
-            return int(v)
-        if isinstance(v, int):
-            return v
-        if isinstance(v, float):
-            return _f32(v)
-        if isinstance(v, (list, tuple)):
-            return [conv(x) for x in v]
-        return v
-    return json.dumps({k: conv(v) for k, v in params.items() if k != "preset"},
-                      sort_keys=True, separators=(",", ":"))
 
 
 def stored_key(native, vdb, path: str) -> str:
@@ -227,9 +164,9 @@ class LocalBake:
             for index, (path, params, frame) in enumerate(self.entries):
                 if self._cancel.is_set():
                     raise Cancelled()
-                grid_n, voxel, origin = grid_spec(params["box_size"], self.settings.resolution)
-                key = bake_key(self.native.field_key(params), grid_n, voxel, self.settings.lod,
-                               self.settings.half, self.settings.tolerance)
+                s = self.settings  # the grid, key and metadata come from the core, as the CLI's
+                plan = self.native.bake_plan(params, s.resolution, lod=s.lod, half=s.half, tolerance=s.tolerance)
+                key = plan["key"]
                 if self.update and stored_key(self.native, self.vdb, path) == key:
                     result.kept.append(path)
                     done.setdefault(key, (path, frame))
@@ -237,8 +174,7 @@ class LocalBake:
                     self._copy(done[key][0], path)
                     result.copied.append((path, done[key][1]))
                 else:
-                    self._bake_one(path, params, grid_n, voxel, origin, key,
-                                   lambda f, i=index: self._set_fraction((i + f) / n))
+                    self._bake_one(path, params, plan, lambda f, i=index: self._set_fraction((i + f) / n))
                     result.paths.append(path)
                     done[key] = (path, frame)
                 self._set_fraction((index + 1) / n)
@@ -272,10 +208,11 @@ class LocalBake:
             _remove(tmp)
             raise
 
-    def _bake_one(self, path, params, n, voxel, origin, key, progress):
+    def _bake_one(self, path, params, plan, progress):
         import numpy as np  # noqa: PLC0415
 
         vdb, s = self.vdb, self.settings
+        n, voxel, origin = plan["grid"], plan["voxel"], plan["origin"]
         f = np.float32
         footprint = float(voxel) if s.lod else 0.0
         grid = vdb.FloatGrid()
@@ -298,11 +235,12 @@ class LocalBake:
                 active += int(np.count_nonzero(values))
                 grid.copyFromArray(values, ijk=(0, 0, k0), tolerance=0.0)
             progress(k1 / n[2])
-        self._write(path, grid, params, n, voxel, origin, key)
+        self._write(path, grid, params, plan)
         self.active_voxels.append(active)
 
-    def _write(self, path, grid, params, n, voxel, origin, key):
+    def _write(self, path, grid, params, plan):
         vdb, s = self.vdb, self.settings
+        n, voxel, origin, key = plan["grid"], plan["voxel"], plan["origin"], plan["key"]
         grid.name = "density"
         try:
             grid.gridClass = vdb.GridClass.FOG_VOLUME
@@ -313,8 +251,8 @@ class LocalBake:
         translate = getattr(xform, "postTranslate", None) or xform.translate  # 12.x / 10.x bindings
         translate(tuple(float(origin[a]) + 0.5 * v for a in range(3)))
         grid.transform = xform
-        worley, perlin = lod_octaves(params, float(voxel), s.lod)
-        meta = {"cloudgen_version": self.version, "cloudgen_params": params_json(params),
+        worley, perlin = plan["lod_octaves"]
+        meta = {"cloudgen_version": self.version, "cloudgen_params": plan["params_json"],
                 "cloudgen_time": _f32(params.get("time", 0.0)), "cloudgen_resolution": int(max(n)),
                 "cloudgen_bake_key": key, "cloudgen_lod_worley_octaves": worley,
                 "cloudgen_lod_perlin_octaves": perlin}

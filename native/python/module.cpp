@@ -95,6 +95,52 @@ PyObject* py_field_key(PyObject*, PyObject* params) {
   return guarded([&] { return str_to_py(cg::field_key(params_from_py(params)).c_str()).release(); });
 }
 
+// The grid, key and metadata a bake of `params` gets: what `cloudgen bake` computes, so
+// that a bake written elsewhere (inside Blender, through its own OpenVDB) is the CLI's.
+PyObject* py_bake_plan(PyObject*, PyObject* args, PyObject* kwargs) {
+  return guarded([&] {
+    static const char* kwlist[] = {"params", "resolution", "lod", "half", "tolerance", nullptr};
+    PyObject *params_obj = nullptr, *resolution_obj = nullptr, *tolerance_obj = nullptr;
+    int lod = 1, half = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|ppO:bake_plan", const_cast<char**>(kwlist), &params_obj,
+                                     &resolution_obj, &lod, &half, &tolerance_obj))
+      throw PyErrorSet{};
+    const cg::Params params = params_from_py(params_obj);
+    const long long resolution = int_arg(resolution_obj, "resolution must be an integer in [1, 100000]");
+    if (resolution < 1 || resolution > 100000)
+      raise(PyExc_ValueError, "resolution must be an integer in [1, 100000]; got " + std::to_string(resolution));
+    cg::BakeOptions o;
+    o.resolution = static_cast<int>(resolution);
+    o.lod = lod != 0;
+    if (tolerance_obj) {
+      const double t = PyFloat_AsDouble(tolerance_obj);
+      if (t == -1.0 && PyErr_Occurred()) throw PyErrorSet{};
+      if (!(t >= 0.0 && t <= 1.0e30)) raise(PyExc_ValueError, "tolerance must be a number in [0, 1e30]");
+      o.tolerance = static_cast<float>(t);
+    }
+    const cg::Model m = cg::prepare(params);
+    const cg::GridSpec g = cg::bake_grid(m, o);
+    const cg::Lod l = o.lod ? cg::lod_for_footprint(m, g.voxel) : cg::kNoLod;
+    // the float32 values exactly (not their shortest decimal): the caller computes with them
+    auto exact = [](float v) { return check(PyFloat_FromDouble(static_cast<double>(v))); };
+    Ref dict = check(PyDict_New());
+    Ref grid = check(PyList_New(3)), origin = check(PyList_New(3)), octaves = check(PyList_New(2));
+    for (int a = 0; a < 3; ++a) {
+      check_status(PyList_SetItem(grid.get(), a, check(PyLong_FromLong(g.n[a])).release()));
+      check_status(PyList_SetItem(origin.get(), a, exact(g.origin[a]).release()));
+    }
+    check_status(PyList_SetItem(octaves.get(), 0, exact(l.worley_octaves).release()));
+    check_status(PyList_SetItem(octaves.get(), 1, exact(l.perlin_octaves).release()));
+    set_item(dict.get(), "grid", std::move(grid));
+    set_item(dict.get(), "voxel", exact(g.voxel));
+    set_item(dict.get(), "origin", std::move(origin));
+    set_item(dict.get(), "key", str_to_py(cg::bake_key(m, o, half != 0).c_str()));
+    set_item(dict.get(), "lod_octaves", std::move(octaves));
+    set_item(dict.get(), "params_json", str_to_py(cg::params_to_json(params).c_str()));
+    return dict.release();
+  });
+}
+
 PyObject* py_version(PyObject*, PyObject*) {
   return guarded([] {
     Ref dict = check(PyDict_New());
@@ -299,6 +345,13 @@ PyMethodDef kMethods[] = {
      "field_key(params, /)\n--\n\n"
      "16 hex digits identifying the density field of a params dict: equal keys mean\n"
      "equal fields (time drops out of a cloud without wind and evolution)."},
+    {"bake_plan", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)(void)>(py_bake_plan)),
+     METH_VARARGS | METH_KEYWORDS,
+     "bake_plan(params, resolution, lod=True, half=False, tolerance=0.0)\n--\n\n"
+     "What `cloudgen bake --resolution N` computes before it bakes: {'grid': [nx, ny, nz],\n"
+     "'voxel', 'origin' (corner of voxel 0, local frame; voxel (i,j,k) has its centre at\n"
+     "origin + (i + 1/2) * voxel, in float32), 'key' (the bake key stored in the file),\n"
+     "'lod_octaves' [worley, gradient], 'params_json' (the cloudgen_params metadata)}."},
     {"version", py_version, METH_NOARGS,
      "version()\n--\n\n"
      "{'version': release, 'protocol': N}: the release of this module and the version of\n"

@@ -209,3 +209,28 @@ def test_footprint_of_wrong_type_refused(footprint):
     with pytest.raises((TypeError, ValueError)) as info:
         cn.density(CUMULUS, np.zeros((2, 3)), footprint=footprint)
     assert "footprint" in str(info.value), (footprint, str(info.value))
+
+
+def test_bake_plan_is_what_the_cli_plans(tmp_path):
+    """cloudgen_native.bake_plan (used by the add-on's in-Blender bake) gives the grid, voxel
+    and bake key `cloudgen bake --dry-run --json` plans, for a few settings. Exact."""
+    import subprocess
+
+    from test_cli import CLOUDGEN
+
+    for params, res, flags, kw in [({"preset": "cumulus"}, 24, [], {}),
+                                   ({"preset": "cirrus", "seed": 4}, 40, ["--no-lod", "--half"],
+                                    {"lod": False, "half": True}),
+                                   ({"preset": "stratus"}, 17, ["--tolerance", "0.25"], {"tolerance": 0.25})]:
+        pfile = tmp_path / "p.json"
+        pfile.write_text(json.dumps(params))
+        r = subprocess.run([CLOUDGEN, "bake", "--params", str(pfile), "--resolution", str(res), *flags, "--dry-run",
+                            "--json", "--output", str(tmp_path / "x.vdb")], capture_output=True, text=True, check=True)
+        cli = json.loads(r.stdout.splitlines()[0])
+        plan = cn.bake_plan(params, res, **kw)
+        assert plan["grid"] == cli["grid"] and plan["key"] == cli["files"][0]["key"], (params, plan, cli)
+        assert math.isclose(plan["voxel"], cli["voxel"], rel_tol=1e-7), (plan["voxel"], cli["voxel"])
+        f = np.float32  # the core computes the origin in float32: -0.5f * n * voxel
+        assert plan["origin"] == [float(f(-0.5) * f(n) * f(plan["voxel"])) for n in plan["grid"]], plan["origin"]
+    with pytest.raises(ValueError, match="resolution"):
+        cn.bake_plan({}, 0)
