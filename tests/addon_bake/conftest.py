@@ -29,3 +29,16 @@ def bake_addon():
     assert mod is not None, "addon_utils.enable('cloudgen') failed"
     yield mod
     addon_utils.disable("cloudgen", default_set=False, handle_error=_raise)
+
+
+@pytest.fixture(params=["blender", "cli"])
+def built_cli(bake_addon, monkeypatch, request):
+    """Both bake paths: inside Blender (bake_local.py, no CLI configured) and build/bin/cloudgen."""
+    from cloudgen import bridge
+
+    cli = ROOT / "build" / "bin" / "cloudgen"
+    if request.param == "cli":
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(cli))
+    else:
+        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: None)
+    return request.param

@@ -18,19 +18,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 CLI = ROOT / "build" / "bin" / "cloudgen"
 
 
-pytestmark = pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built")
-
-
-@pytest.fixture(autouse=True, params=["blender", "cli"])
-def built_cli(bake_addon, monkeypatch, request):
-    """Both bake paths: inside Blender (bake_local.py, no CLI configured) and the CLI."""
-    from cloudgen import bridge
-
-    if request.param == "cli":
-        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: str(CLI))
-    else:
-        monkeypatch.setattr(bridge, "cloudgen_executable", lambda: None)
-    return request.param
+pytestmark = [pytest.mark.skipif(not CLI.is_file(), reason="build/bin/cloudgen not built"),
+              pytest.mark.usefixtures("built_cli")]  # both bake paths (conftest)
 
 
 def info(path):
