@@ -1,12 +1,13 @@
 """Bake Frame Range on a Dask cluster: `<python> -m cloudgen_dask bake --scheduler ADDRESS
---sequence FILE --output OUT ... --summary-json` (docs/distributed.md) in a subprocess,
+--sequence FILE --output OUT ... --json` (docs/distributed.md) in a subprocess,
 with the BakeJob interface of bake_process (start, poll, wait, cancel, progress). No bpy.
 
 The runner bakes each distinct field once on the cluster's workers (each runs the
 cloudgen CLI at the same path, `--cloudgen`), copies the frames that repeat one, and
-skips files that already hold their bake key. Its progress (`cloudgen-dask: K/N units`,
-on stderr) becomes the job's progress; its one JSON summary line (stdout) the result:
-`units`, `computed`, `skipped`, `copied`. The files are the sequence's frames, named
+skips files that already hold their bake key. It runs with `--json` and speaks the
+CLI's JSON-lines protocol on stdout (read with cli_events): `progress` events become
+the job's progress, the `summary` event the result (`units`, `computed`, `skipped`,
+`copied`), an `error` event the message. The files are the sequence's frames, named
 as the CLI names them (frame_path). Cancel sends SIGINT (the runner cancels its
 futures, keeps finished units and exits 130).
 """
@@ -21,15 +22,15 @@ import tempfile
 import threading
 
 try:
+    from . import cli_events
     from .bake_process import BAD_ARGUMENT, CANCELLED, IO_ERROR, OK, BakeResult
 except ImportError:
+    import cli_events
     from bake_process import BAD_ARGUMENT, CANCELLED, IO_ERROR, OK, BakeResult
-
-_UNITS = re.compile(r"cloudgen-dask: (\d+)/(\d+) units")
 
 
 def command(python, scheduler, cli, sequence_file, output, resolution, extra):
-    cmd = [python, "-m", "cloudgen_dask", "bake", "--scheduler", scheduler, "--summary-json",
+    cmd = [python, "-m", "cloudgen_dask", "bake", "--scheduler", scheduler, "--json",
            "--cloudgen", cli, "--sequence", sequence_file, "--output", output]
     if resolution is not None:
         cmd += ["--resolution", str(int(resolution))]
@@ -50,6 +51,7 @@ class DaskBake:
         self._threads = []
         self._result = None
         self._cancelled = False
+        self._events = {}  # the runner's summary / error event
 
     @property
     def progress(self) -> float:
@@ -78,29 +80,24 @@ class DaskBake:
         return self
 
     def _pump(self, stream, sink):
-        buf = b""
-        while True:
-            chunk = stream.read1(4096) if hasattr(stream, "read1") else stream.read(4096)
-            if not chunk:
-                break
-            buf += chunk
-            parts = re.split(rb"[\r\n]", buf)
-            buf = parts.pop()
-            for part in parts:
-                self._line(part.decode("utf-8", "replace"), sink)
-        if buf:
-            self._line(buf.decode("utf-8", "replace"), sink)
+        for raw in stream:
+            line = raw.decode("utf-8", "replace").rstrip("\r\n")
+            if not line.strip():
+                continue
+            sink.append(line)
+            if sink is not self.stdout_lines:
+                continue
+            try:
+                event = cli_events.parse(line)
+            except cli_events.ProtocolError:
+                continue  # not ours (a library printing on stdout): kept for the message only
+            if event and event["event"] == "progress":
+                self._fraction = min(max(float(event.get("fraction", 0.0)), 0.0), 1.0)
+                if self.on_progress is not None:
+                    self.on_progress(100.0 * self._fraction)
+            elif event and event["event"] in ("summary", "error"):
+                self._events[event["event"]] = event
         stream.close()
-
-    def _line(self, line, sink):
-        if not line.strip():
-            return
-        sink.append(line)
-        m = _UNITS.search(line)
-        if m and int(m.group(2)) > 0:
-            self._fraction = int(m.group(1)) / int(m.group(2))
-            if self.on_progress is not None:
-                self.on_progress(100.0 * self._fraction)
 
     def cancel(self):
         self._cancelled = True
@@ -128,17 +125,15 @@ class DaskBake:
         if code == 130 or (code < 0 and self._cancelled):
             self._result = BakeResult(CANCELLED, "bake cancelled; finished frames are kept on the cluster's storage")
             return self._result
-        summary = None
-        for line in reversed(self.stdout_lines):
-            try:
-                summary = json.loads(line)
-                break
-            except ValueError:
-                continue
-        if code != OK or not isinstance(summary, dict):
-            errors = [ln for ln in self.stderr_lines if "error" in ln] or self.stderr_lines or [f"exit code {code}"]
-            self._result = BakeResult(IO_ERROR if code != 2 else BAD_ARGUMENT,
-                                      "Dask bake failed: " + re.sub(r"^cloudgen-dask: (error: )?", "", errors[-1]))
+        summary = self._events.get("summary")
+        if code != OK or summary is None:
+            error = self._events.get("error")
+            if error is not None:
+                text = str(error.get("message", ""))
+            else:  # no event (the runner could not start): its last stderr line
+                errors = [ln for ln in self.stderr_lines if "error" in ln] or self.stderr_lines or [f"exit code {code}"]
+                text = re.sub(r"^cloudgen-dask: (error: )?", "", errors[-1])
+            self._result = BakeResult(IO_ERROR if code != 2 else BAD_ARGUMENT, "Dask bake failed: " + text)
             return self._result
         missing = [f for f in self.files if not os.path.isfile(f)]
         if missing:

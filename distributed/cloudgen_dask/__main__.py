@@ -30,6 +30,8 @@ def main(argv=None) -> int:
     bake.add_argument("--cloudgen", default=os.environ.get("CLOUDGEN_BIN", str(DEFAULT_CLI)),
                       help="the cloudgen executable, the same path on every worker")
     bake.add_argument("--summary-json", action="store_true", help="print the summary as one JSON line")
+    bake.add_argument("--json", action="store_true",
+                      help="machine-readable: JSON lines on stdout (progress, summary, error; docs/cli_protocol.md)")
     bake.add_argument("--no-progress", action="store_true")
     render.add_parser(sub)
     args, rest = parser.parse_known_args(argv)
@@ -43,25 +45,37 @@ def main(argv=None) -> int:
         parser.error(f"--workers must be an integer in [1, 1024]; got {args.workers}")
     if "--output" not in rest and not any(a.startswith("--output=") for a in rest):
         parser.error("give --output FILE.vdb (as for cloudgen bake)")
+    def event(name, **fields):  # the CLI's JSON-lines protocol (docs/cli_protocol.md)
+        if args.json:
+            print(json.dumps({"event": name, **fields}), flush=True)
+
     settings = runner.Settings(bake_args=rest, cli=args.cloudgen, bricks=args.bricks, scheduler=args.scheduler,
                                scheduler_file=args.scheduler_file, workers=args.workers, work_dir=args.work_dir,
-                               keep_bricks=args.keep_bricks, progress=not args.no_progress)
+                               keep_bricks=args.keep_bricks, progress=not (args.no_progress or args.json),
+                               on_progress=lambda done, total: event("progress", fraction=done / max(total, 1),
+                                                                     units_done=done, units=total))
+
+    def fail(code, message):
+        print(f"cloudgen-dask: error: {message}", file=sys.stderr)
+        event("error", code=code, message=str(message))
+        return code
+
     try:
         summary = runner.run(settings)
     except KeyboardInterrupt:
         print("cloudgen-dask: interrupted; finished units are kept, rerun to resume", file=sys.stderr)
+        event("error", code=runner.EXIT_CANCELLED, message="interrupted; finished units are kept")
         return runner.EXIT_CANCELLED
     except CliError as exc:
-        print(f"cloudgen-dask: error: {exc}", file=sys.stderr)
-        return runner.EXIT_USAGE if exc.code == 2 else runner.EXIT_FAILED
+        return fail(runner.EXIT_USAGE if exc.code == 2 else runner.EXIT_FAILED, exc)
     except UnitError as exc:
-        print(f"cloudgen-dask: error: {exc}", file=sys.stderr)
-        return runner.EXIT_FAILED
+        return fail(runner.EXIT_FAILED, exc)
     except ValueError as exc:
-        print(f"cloudgen-dask: error: {exc}", file=sys.stderr)
-        return runner.EXIT_USAGE
+        return fail(runner.EXIT_USAGE, exc)
     d = summary.as_dict()
-    if args.summary_json:
+    if args.json:
+        event("summary", **d)
+    elif args.summary_json:
         print(json.dumps(d))
     else:
         print(f"cloudgen-dask: {d['units']} units: {d['computed']} baked, {d['skipped']} already done, "

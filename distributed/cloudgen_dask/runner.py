@@ -27,6 +27,7 @@ class Settings:
     work_dir: str | None = None    # bricks and per-frame files; default: next to the output
     keep_bricks: bool = False
     progress: bool = True          # the progress line on stderr
+    on_progress: object = None     # called with (units done, units) as units finish
 
 
 @dataclasses.dataclass
@@ -154,6 +155,8 @@ def _run_units(client, todo, settings, summary, t0, on_unit):
             summary.voxels += result["voxels"]
             if on_unit is not None:
                 on_unit(result)
+            if settings.on_progress is not None:
+                settings.on_progress(summary.skipped + done, summary.units)
             if settings.progress:
                 elapsed = time.perf_counter() - t0
                 rate = summary.voxels / elapsed if elapsed > 0 else 0.0

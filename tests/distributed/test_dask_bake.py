@@ -162,3 +162,23 @@ def test_bad_options_exit_2(tmp_path):
     r = subprocess.run([sys.executable, "-m", "cloudgen_dask", "bake", "--preset", "cumulus", "--resolution", "0",
                         "--output", str(tmp_path / "x.vdb")], capture_output=True, text=True, env=env, timeout=120)
     assert r.returncode == 2 and "--resolution" in r.stderr, (r.returncode, r.stderr)
+
+
+def test_runner_speaks_the_json_protocol(tmp_path):
+    """--json: stdout is protocol events only (progress, then summary; error with the exit code)."""
+    sys.path.insert(0, str(ROOT / "addon"))
+    import cli_events
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "distributed")}
+    base = [sys.executable, "-m", "cloudgen_dask", "bake", "--json", "--workers", "1", "--preset", "stratus"]
+    r = subprocess.run([*base, "--resolution", "12", "--frames", "1-2", "--output", str(tmp_path / "s_##.vdb")],
+                       capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stderr
+    events = [cli_events.parse(line) for line in r.stdout.splitlines() if line.strip()]
+    kinds = [e["event"] for e in events]
+    assert kinds == ["progress", "progress", "summary"], kinds
+    assert events[-2]["fraction"] == 1.0 and events[-1]["computed"] == 2, events
+    bad = subprocess.run([*base, "--resolution", "0", "--output", str(tmp_path / "x.vdb")], capture_output=True,
+                         text=True, env=env, timeout=300)
+    (err,) = [cli_events.parse(line) for line in bad.stdout.splitlines() if line.strip()]
+    assert bad.returncode == 2 and err["event"] == "error" and err["code"] == 2 and "--resolution" in err["message"]
