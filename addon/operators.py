@@ -5,6 +5,12 @@ import bpy
 from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props
 from .panel import tooltip
 
+# Volume bounces for clouds: a thick cloud scatters light many times before it leaves; with
+# fewer bounces the lost light makes it grey (docs/lighting.md: the default cumulus's sunlit
+# side at 1 / 4 / 8 / 16 / 32 bounces).
+CLOUD_BOUNCES = 16
+MIN_CLOUD_BOUNCES = 4  # Add Cloud raises a scene's Volume Bounces below this to CLOUD_BOUNCES
+
 
 def osl_problem(context):
     """None when the procedural (OSL) cloud can render with the scene's settings,
@@ -44,6 +50,13 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
             self.report({"ERROR"}, f"Add Cloud: {exc}")
             return {"CANCELLED"}
         preview.refresh(context, obj)
+        c = context.scene.cycles
+        if context.scene.render.engine == "CYCLES" and c.volume_bounces < MIN_CLOUD_BOUNCES:
+            was = c.volume_bounces
+            c.volume_bounces = CLOUD_BOUNCES
+            c.max_bounces = max(c.max_bounces, CLOUD_BOUNCES)
+            self.report({"INFO"}, f"Volume Bounces raised from {was} to {CLOUD_BOUNCES}: with fewer, thick "
+                                  "clouds render dark grey (Ctrl+Z to undo)")
         problem = osl_problem(context)
         if problem:
             self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "
@@ -76,39 +89,48 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
     denoise: bpy.props.BoolProperty(name="Denoise", default=True,
                                     description="Denoise final renders (left off where this "
                                                 "Blender has no denoiser)")
-    volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=8, min=0, max=128,
+    volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=CLOUD_BOUNCES, min=0, max=128,
                                           description="Multiple scattering makes clouds bright")
     step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.2, min=0.01, max=10.0,
                                        description="Volume step rate of the cloud materials "
                                                    "(smaller: finer detail, slower)")
 
     def execute(self, context):
-        scene = context.scene
-        scene.render.engine = "CYCLES"
-        c = scene.cycles
-        if self.procedural:
-            c.device = "CPU"
-            c.shading_system = True
-        denoiser = checks.usable_denoiser(scene) if self.denoise else None
-        if denoiser is not None and c.denoiser != denoiser:
-            c.denoiser = denoiser
-        c.use_denoising = denoiser is not None
-        if self.denoise and denoiser is None:
-            self.report({"INFO"}, "Denoise left off: this Blender has no denoiser for this device "
-                                  "(built without OpenImageDenoise)")
-        c.volume_bounces = self.volume_bounces
-        c.max_bounces = max(c.max_bounces, self.volume_bounces)
-        c.transparent_max_bounces = max(c.transparent_max_bounces, 16)
-        for attr, value in (("volume_step_rate", 1.0), ("volume_max_steps", 1024)):
-            if hasattr(c, attr):  # Blender 5 renders volumes without ray-marching steps
-                setattr(c, attr, value)
-        for mat in {cloud_object.cloud_material(o) for o in scene.objects if cloud_object.is_cloud(o)}:
-            if mat is not None and hasattr(mat.cycles, "volume_step_rate"):
-                mat.cycles.volume_step_rate = self.step_rate
+        for line in apply_render_settings(context.scene, self.procedural, self.denoise, self.volume_bounces,
+                                          self.step_rate):
+            self.report({"INFO"}, line)
         problem = osl_problem(context) if self.procedural else None
         if problem:
             self.report({"WARNING"}, f"Procedural clouds will not render: {problem} — use baked VDBs")
         return {"FINISHED"}
+
+
+def apply_render_settings(scene, procedural=True, denoise=True, volume_bounces=CLOUD_BOUNCES, step_rate=0.2):
+    """Cycles settings that suit clouds (the Cloud Render Settings operator, and Cloud Sky &
+    Sun); returns lines worth telling the artist."""
+    said = []
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    if procedural:
+        c.device = "CPU"
+        c.shading_system = True
+    denoiser = checks.usable_denoiser(scene) if denoise else None
+    if denoiser is not None and c.denoiser != denoiser:
+        c.denoiser = denoiser
+    c.use_denoising = denoiser is not None
+    if denoise and denoiser is None:
+        said.append("Denoise left off: this Blender has no denoiser for this device "
+                    "(built without OpenImageDenoise)")
+    c.volume_bounces = volume_bounces
+    c.max_bounces = max(c.max_bounces, volume_bounces)
+    c.transparent_max_bounces = max(c.transparent_max_bounces, 16)
+    for attr, value in (("volume_step_rate", 1.0), ("volume_max_steps", 1024)):
+        if hasattr(c, attr):  # Blender 5 renders volumes without ray-marching steps
+            setattr(c, attr, value)
+    for mat in {cloud_object.cloud_material(o) for o in scene.objects if cloud_object.is_cloud(o)}:
+        if mat is not None and hasattr(mat.cycles, "volume_step_rate"):
+            mat.cycles.volume_step_rate = step_rate
+    return said
 
 
 class CLOUDGEN_OT_time_from_frame(bpy.types.Operator):

@@ -4,7 +4,7 @@ the native module's import error, and whether the procedural cloud can
 render with the scene's settings."""
 import bpy
 
-from . import bridge, cloud_object, nodes, operators, preview
+from . import bridge, cloud_object, light_setup, nodes, operators, preview
 from .panel import SidebarPanel, wrapped_label
 
 SHAPE_SOURCE = "Shape Source"
@@ -71,6 +71,7 @@ class CLOUDGEN_PT_main(SidebarPanel, bpy.types.Panel):
             wrapped_label(layout, f"{obj.name}: {obj[cloud_object.TYPE_KEY].replace('_', ' ')}",
                           "OUTLINER_OB_VOLUME", context)
         layout.operator(operators.CLOUDGEN_OT_render_settings.bl_idname, icon="SCENE")
+        light_setup.draw(layout, context)
 
 
 def _help_button(row, p):

@@ -4,14 +4,19 @@ Usage: .venv/bin/python scripts/render_cloud.py --preset cumulus --output out/cu
        [--params FILE.json] [--size 320x240] [--samples 64] [--step-rate 0.05] [--seed 0]
        [--vdb FILE.vdb]
 
-Builds a small scene — the cloud box with a Principled Volume fed by Cloud
-Main, a camera, a sun and a blue sky — and renders it on the CPU with OSL,
-denoising off (the output is what the model computes, not a denoiser's guess).
-Writes the image atomically.
+Builds a small scene — the cloud box with its volume material fed by Cloud
+Main, a camera and light — and renders it on the CPU with OSL. Writes the image
+atomically. Two lights: `--light sky` (default) is what the add-on's "Cloud Sky
+& Sun" sets up — a Nishita sky, a sun lamp matched to it, AgX (Filmic on 3.4),
+an exposure for the sun's elevation, 8 volume bounces, the Mie phase where
+Cycles has it, denoising on where Blender has OpenImageDenoise;
+`--light studio` is the benchmarks' reference scene — a flat blue world, a 6 W
+sun, Standard view, 4 bounces, Henyey–Greenstein, denoising off (the output is
+what the model computes, not a denoiser's guess).
 
 The material comes from the add-on's one volume-material builder
-(addon/volume_material.py, loaded by its path) with a Principled Volume on every
-Blender version (phase "HG": the benchmarks' references are rendered with it);
+(addon/volume_material.py, loaded by its path; in the studio with a Principled
+Volume on every Blender version, phase "HG": the references are rendered with it);
 it takes the preset's material settings ("material" in
 native/presets/clouds.json: anisotropy, color, step_rate); --step-rate
 overrides the step rate. The OSL compiles run in a private temporary folder
@@ -63,6 +68,16 @@ def parse_args(argv):
                     help="with --zoom: aim at this point of the box, generated coordinates X,Y,Z in [0, 1]")
     ap.add_argument("--vdb", default=None,
                     help="render this baked VDB (grid `density`, cloud-local frame) instead of the procedural material")
+    ap.add_argument("--light", choices=("sky", "studio"), default="sky",
+                    help="sky (default): the add-on's daylight (addon/sky_light.py: Nishita sky, matched sun lamp, "
+                         "AgX/Filmic, exposure), Mie phase where Cycles has it, denoised; studio: a flat blue "
+                         "world, a 6 W sun, Standard view, Henyey-Greenstein, no denoiser (the benchmarks' "
+                         "reference scene)")
+    ap.add_argument("--sun-elevation", type=float, default=35.0, help="sky light: sun elevation, degrees")
+    ap.add_argument("--sun-rotation", type=float, default=150.0,
+                    help="sky light: sun azimuth, degrees (0: ahead of the camera, 180: behind it)")
+    ap.add_argument("--bounces", type=int, default=None,
+                    help="volume bounces (default: 8 with the sky light, 4 in the studio)")
     return ap.parse_args(argv)
 
 
@@ -124,11 +139,14 @@ def build_scene(values, args):
     scene.cycles.device = "CPU"
     vdb = getattr(args, "vdb", None)
     scene.cycles.shading_system = not vdb  # OSL only for the procedural material
+    sky = getattr(args, "light", "studio") == "sky"
     scene.cycles.samples = args.samples
-    scene.cycles.use_denoising = False
+    scene.cycles.use_denoising = sky and _addon_file("sky_light").denoiser_built_in()
     scene.cycles.seed = args.seed
-    scene.cycles.volume_bounces = 4
-    scene.cycles.max_bounces = 4
+    bounces = getattr(args, "bounces", None)
+    bounces = (8 if sky else 4) if bounces is None else bounces
+    scene.cycles.volume_bounces = bounces
+    scene.cycles.max_bounces = max(bounces, 4)
     scene.render.threads_mode = "FIXED" if args.threads else "AUTO"
     if args.threads:
         scene.render.threads = args.threads
@@ -147,13 +165,14 @@ def build_scene(values, args):
     # the add-on's one volume-material builder, always with a Principled Volume (HG,
     # the preset's anisotropy): the benchmarks' references are rendered with it
     step = getattr(args, "step_rate", None)
+    phase = "AUTO" if sky else "HG"  # the sky: Mie where Cycles has it; the studio: as the references
     if vdb:
         step = 1.0 if step is None else step  # a VDB steps at its voxel size (as the add-on's bake)
-        _addon_file("volume_material").volume_material(mat, material, grid="density", phase="HG",
+        _addon_file("volume_material").volume_material(mat, material, grid="density", phase=phase,
                                                        step_rate=step)
         cloud = vdb_object(vdb, cloud, mat)
     else:
-        volume = _addon_file("volume_material").volume_material(mat, material, phase="HG",
+        volume = _addon_file("volume_material").volume_material(mat, material, phase=phase,
                                                                 step_rate=material["step_rate"])
         nt = mat.node_tree
         coords = nt.nodes.new("ShaderNodeTexCoord")
@@ -176,6 +195,9 @@ def build_scene(values, args):
     if zoom != 1.0 or getattr(args, "aim", None):
         aim_camera(cam, box, cloud_z, zoom, args.aim)
 
+    if sky:
+        _addon_file("sky_light").daylight(scene, args.sun_elevation, args.sun_rotation)
+        return scene
     sun_data = bpy.data.lights.new("Sun", "SUN")
     sun_data.energy = 6.0
     sun_data.angle = math.radians(1.0)

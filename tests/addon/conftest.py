@@ -45,7 +45,7 @@ def scene(addon):
     import bpy
 
     bpy.ops.wm.read_homefile(use_empty=True)
-    bpy.ops.cloudgen.render_settings(denoise=False, volume_bounces=2)
+    bpy.ops.cloudgen.render_settings(denoise=False, volume_bounces=4)  # not raised by Add Cloud
     sc = bpy.context.scene
     sc.cycles.samples = 4
     sc.cycles.seed = 1

@@ -14,7 +14,7 @@ def small_scene(width=48, height=36, samples=4, seed=1, osl=True):
     sc.cycles.samples = samples
     sc.cycles.seed = seed
     sc.cycles.use_denoising = False
-    sc.cycles.volume_bounces = 2
+    sc.cycles.volume_bounces = 4  # Add Cloud raises fewer than 4 (operators.MIN_CLOUD_BOUNCES)
     sc.cycles.max_bounces = 2
     sc.render.resolution_x, sc.render.resolution_y = width, height
     sc.render.resolution_percentage = 100

@@ -1,0 +1,118 @@
+"""Light that makes clouds look like clouds: the "Cloud Sky & Sun" operator (a physical sky,
+a matched sun, AgX, exposure, cloud render settings; addon/sky_light.py does the sky), and
+the sidebar's check of the settings that make clouds dark in an artist's own scene, each with
+its fix. The artist's own lights are never touched unless they press Cloud Sky & Sun."""
+import math
+
+import bpy
+
+from . import cloud_object, operators, sky_light
+from .panel import wrapped_label
+
+MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
+
+
+def view_azimuth(scene) -> float:
+    """Azimuth (degrees, sky_light's convention: 0 = +Y, 90 = +X) the scene camera looks
+    along; 0 without a camera."""
+    cam = scene.camera
+    if cam is None:
+        return 0.0
+    from mathutils import Vector  # noqa: PLC0415
+
+    v = cam.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))
+    if abs(v.x) < 1e-9 and abs(v.y) < 1e-9:
+        return 0.0
+    return math.degrees(math.atan2(v.x, v.y))
+
+
+def dark_settings(scene):
+    """[(text, fix)] — settings of this scene that make its clouds render dark or clipped, and
+    the fix operator's `what` for each ("" when there is no one-click fix)."""
+    if not any(cloud_object.is_cloud(o) for o in scene.objects):
+        return []
+    found = []
+    if scene.render.engine == "CYCLES" and scene.cycles.volume_bounces < MIN_BOUNCES:
+        found.append((f"Volume Bounces is {scene.cycles.volume_bounces}: light that scatters more often is "
+                      f"lost and thick clouds turn dark grey ({operators.CLOUD_BOUNCES} keeps them white)",
+                      "BOUNCES"))
+    if scene.render.engine == "CYCLES" and scene.cycles.max_bounces < MIN_BOUNCES:
+        found.append((f"Total bounces is {scene.cycles.max_bounces}: it caps Volume Bounces", "BOUNCES"))
+    if scene.view_settings.view_transform == "Standard":
+        found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
+                      "highlights)", "VIEW"))
+    suns = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render and o.data.energy > 0]
+    world = scene.world
+    if not suns and (world is None or not world.use_nodes):
+        found.append(("No light and no sky: the clouds are black (Cloud Sky & Sun adds both)", ""))
+    return found
+
+
+class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
+    """Change the one setting that makes the clouds dark or clipped"""
+    bl_idname = "cloudgen.fix_dark"
+    bl_label = "Fix"
+    bl_options = {"REGISTER", "UNDO"}
+
+    what: bpy.props.EnumProperty(items=(("BOUNCES", "Bounces", "Raise volume and total bounces"),
+                                        ("VIEW", "View Transform", "AgX (Filmic before 4.0)")))
+
+    def execute(self, context):
+        scene = context.scene
+        if self.what == "BOUNCES":
+            c = scene.cycles
+            c.volume_bounces = max(c.volume_bounces, operators.CLOUD_BOUNCES)
+            c.max_bounces = max(c.max_bounces, c.volume_bounces)
+            self.report({"INFO"}, f"Volume Bounces {c.volume_bounces}, total bounces {c.max_bounces}")
+        else:
+            self.report({"INFO"}, f"View Transform {sky_light.view_transform(scene)}")
+        return {"FINISHED"}
+
+
+class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
+    """Daylight for clouds: a physical sky, a sun lamp matched to it, AgX with an exposure for
+    the sun's height, and the cloud render settings. Replaces the world; other lights stay"""
+    bl_idname = "cloudgen.sky_setup"
+    bl_label = "Cloud Sky & Sun"
+    bl_options = {"REGISTER", "UNDO"}
+
+    sun_elevation: bpy.props.FloatProperty(
+        name="Sun Elevation", default=35.0, min=0.0, max=90.0, subtype="NONE",
+        description="Height of the sun above the horizon, degrees (low: warm light, long shadows)")
+    sun_azimuth: bpy.props.FloatProperty(
+        name="Sun Azimuth", default=150.0, min=-180.0, max=180.0,
+        description="Where the sun stands, degrees from the camera's view direction (0: ahead, in "
+                    "the picture — backlit clouds with silver linings; 180: behind the camera)")
+    ground: bpy.props.BoolProperty(name="Ground", default=False,
+                                   description="Add a large dull ground plane at z = 0 (a horizon)")
+    ground_size: bpy.props.FloatProperty(name="Ground Size", default=5000.0, min=1.0, max=1.0e7,
+                                         description="Width of the ground plane, scene units")
+
+    def execute(self, context):
+        scene = context.scene
+        context.view_layer.update()  # the camera's matrix_world after edits in this script
+        rotation = view_azimuth(scene) + self.sun_azimuth
+        try:
+            info = sky_light.daylight(scene, self.sun_elevation, rotation,
+                                      ground_size=self.ground_size if self.ground else None)
+        except RuntimeError as exc:
+            self.report({"ERROR"}, f"Cloud Sky & Sun: {exc}")
+            return {"CANCELLED"}
+        for line in operators.apply_render_settings(scene):
+            self.report({"INFO"}, line)
+        self.report({"INFO"}, f"Sky and sun at {self.sun_elevation:.0f}°: {info['view_transform']}, "
+                              f"exposure {info['exposure']:.1f}")
+        return {"FINISHED"}
+
+
+def draw(layout, context):
+    """The sidebar's light section: the operator and what in this scene makes clouds dark."""
+    layout.operator(CLOUDGEN_OT_sky_setup.bl_idname, icon="LIGHT_SUN")
+    for text, fix in dark_settings(context.scene):
+        row = layout.row()
+        wrapped_label(row.column(), text, "ERROR", context)
+        if fix:
+            row.operator(CLOUDGEN_OT_fix_dark.bl_idname, text="Fix").what = fix
+
+
+classes = (CLOUDGEN_OT_fix_dark, CLOUDGEN_OT_sky_setup)

@@ -1,0 +1,180 @@
+"""Daylight for clouds: a physical sky, a sun lamp matched to it, a view transform and an
+exposure that keep cloud highlights, an optional ground. Used by the add-on's
+"Cloud Sky & Sun" operator and by scripts/render_cloud.py (loaded by its path: bpy and
+mathutils only, no imports of the add-on's own modules).
+
+The sky is Blender's Nishita sky texture ("Single Scattering" in Blender 5, the same
+model) with its sun disc off; the sun is a Sun lamp in the sky's sun direction, 0.545°
+wide (the real sun's angular diameter), whose colour and strength are the irradiance of
+the sky's own sun disc at that elevation (SUN_IRRADIANCE, measured by
+scripts/measure_sky_sun.py: the disc rendered with and without, summed over its solid
+angle). A lamp instead of the disc: Cycles samples a lamp directly, while a 0.5° disc in
+the world is found only through the background's importance map, which is noisy.
+docs/lighting.md has the table, the method and the exposure rule.
+"""
+import math
+
+import bpy
+from mathutils import Vector
+
+SUN_ANGLE_DEG = 0.545
+SUN_LAMP = "Cloud Sun"
+SKY_WORLD = "Cloud Sky"
+GROUND = "Cloud Ground"
+
+# Irradiance (linear Rec.709 RGB, Blender's units) of the Nishita sky's sun disc on a surface
+# facing it, by sun elevation in degrees: sun_intensity 1, altitude 0, air/dust/ozone 1.
+# Measured with Blender 4.5.15 (scripts/measure_sky_sun.py); below 1° the sun is set.
+SUN_IRRADIANCE = (
+    (0.0, (0.0, 0.0, 0.0)),
+    (1.0, (13.587, 3.626, 0.0)),
+    (2.0, (29.820, 10.391, 0.057)),
+    (4.0, (59.440, 28.285, 4.257)),
+    (6.0, (80.438, 45.156, 12.200)),
+    (10.0, (105.346, 69.606, 30.233)),
+    (15.0, (121.434, 87.853, 48.753)),
+    (20.0, (130.491, 98.917, 62.137)),
+    (30.0, (140.145, 111.289, 79.081)),
+    (45.0, (146.675, 119.969, 92.243)),
+    (60.0, (149.672, 124.032, 98.770)),
+    (90.0, (151.490, 126.520, 102.884)),
+)
+SKY_SHARE = 0.15  # skylight on a sunlit surface, as a share of the direct sun (exposure rule)
+MIDDLE = 1.0      # scene-linear value of a white surface facing the sun after exposure
+
+
+def denoiser_built_in() -> bool:
+    """This Blender's Cycles has OpenImageDenoise (Debian's 3.4 has not: a render with
+    denoising on fails there)."""
+    try:
+        import _cycles  # noqa: PLC0415 - Cycles' own module says what it was built with
+    except ImportError:
+        return False
+    return bool(getattr(_cycles, "with_openimagedenoise", False))
+
+
+def sun_irradiance(elevation_deg: float):
+    """The sky's sun irradiance (r, g, b) at this elevation (degrees), linearly interpolated."""
+    e = min(max(float(elevation_deg), 0.0), 90.0)
+    for (e0, c0), (e1, c1) in zip(SUN_IRRADIANCE, SUN_IRRADIANCE[1:]):
+        if e <= e1:
+            t = (e - e0) / (e1 - e0)
+            return tuple(a + (b - a) * t for a, b in zip(c0, c1))
+    return SUN_IRRADIANCE[-1][1]
+
+
+def luminance(rgb) -> float:
+    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+
+
+def sun_direction(elevation_deg: float, rotation_deg: float) -> Vector:
+    """Unit vector toward the sun of a Nishita sky with these angles (rotation 0: the sun
+    lies toward +Y; it turns toward +X as the rotation grows) — checked by rendering the
+    disc at the centre of a camera aimed along it (scripts/measure_sky_sun.py)."""
+    e, r = math.radians(elevation_deg), math.radians(rotation_deg)
+    return Vector((math.cos(e) * math.sin(r), math.cos(e) * math.cos(r), math.sin(e)))
+
+
+def exposure_for(elevation_deg: float) -> float:
+    """Film exposure (stops) that brings a white surface facing the sun to MIDDLE: its
+    radiance is about (1 + SKY_SHARE) * E_sun / pi. A low sun gets a longer exposure, as a
+    camera would; the floor keeps a set sun from blowing up the sky."""
+    lum = max(luminance(sun_irradiance(max(elevation_deg, 2.0))), 1e-3)
+    return math.log2(MIDDLE * math.pi / ((1.0 + SKY_SHARE) * lum))
+
+
+def _sky_type(node) -> str:
+    items = {i.identifier for i in node.bl_rna.properties["sky_type"].enum_items}
+    for name in ("NISHITA", "SINGLE_SCATTERING"):  # Blender 5 renamed Nishita
+        if name in items:
+            return name
+    raise RuntimeError("this Blender's Sky Texture has no Nishita (single scattering) model")
+
+
+def view_transform(scene) -> str:
+    """AgX where the Blender has it (4.0+), else Filmic; both roll highlights off instead of
+    clipping them in one channel (Standard turns a bright cloud cyan or flat white)."""
+    items = {i.identifier for i in scene.view_settings.bl_rna.properties["view_transform"].enum_items}
+    for name in ("AgX", "Filmic"):
+        try:
+            scene.view_settings.view_transform = name
+            return name
+        except TypeError:
+            continue
+    return scene.view_settings.view_transform if items else "Standard"
+
+
+def make_sky(scene, elevation_deg: float, rotation_deg: float):
+    """A world named SKY_WORLD with the Nishita sky (sun disc off: the lamp is the sun)."""
+    world = bpy.data.worlds.get(SKY_WORLD) or bpy.data.worlds.new(SKY_WORLD)
+    world.use_nodes = True
+    nt = world.node_tree
+    nt.nodes.clear()
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = _sky_type(sky)
+    sky.sun_disc = False
+    sky.sun_elevation = math.radians(elevation_deg)
+    sky.sun_rotation = math.radians(rotation_deg)
+    sky.sun_size = math.radians(SUN_ANGLE_DEG)
+    bg = nt.nodes.new("ShaderNodeBackground")
+    out = nt.nodes.new("ShaderNodeOutputWorld")
+    sky.location, bg.location, out.location = (-300, 0), (0, 0), (200, 0)
+    nt.links.new(sky.outputs["Color"], bg.inputs["Color"])
+    nt.links.new(bg.outputs["Background"], out.inputs["Surface"])
+    scene.world = world
+    return world
+
+
+def make_sun(scene, elevation_deg: float, rotation_deg: float):
+    """The Sun lamp SUN_LAMP, made or updated: the sky's sun direction, colour and strength."""
+    obj = bpy.data.objects.get(SUN_LAMP)
+    if obj is None or obj.type != "LIGHT" or obj.data.type != "SUN":
+        obj = bpy.data.objects.new(SUN_LAMP, bpy.data.lights.new(SUN_LAMP, "SUN"))
+    if scene.collection.objects.get(obj.name) is None and obj.name not in scene.objects:
+        scene.collection.objects.link(obj)
+    rgb = sun_irradiance(elevation_deg)
+    peak = max(rgb)
+    obj.data.color = tuple(c / peak for c in rgb) if peak > 0 else (1.0, 1.0, 1.0)
+    obj.data.energy = peak
+    obj.data.angle = math.radians(SUN_ANGLE_DEG)
+    obj.rotation_euler = sun_direction(elevation_deg, rotation_deg).to_track_quat("Z", "Y").to_euler()
+    return obj
+
+
+def make_ground(scene, size: float):
+    """A square plane GROUND at z = 0, `size` wide, dull grey-green (albedo ~0.1, fields seen
+    from far): a horizon and a scale cue. Made once, resized on a second call."""
+    obj = bpy.data.objects.get(GROUND)
+    if obj is None or obj.type != "MESH":
+        mesh = bpy.data.meshes.new(GROUND)
+        h = 0.5
+        mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
+        obj = bpy.data.objects.new(GROUND, mesh)
+        mat = bpy.data.materials.new(GROUND)
+        mat.use_nodes = True
+        bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        bsdf.inputs["Base Color"].default_value = (0.07, 0.085, 0.05, 1.0)
+        bsdf.inputs["Roughness"].default_value = 1.0
+        mesh.materials.append(mat)
+    if obj.name not in scene.objects:
+        scene.collection.objects.link(obj)
+    obj.scale = (size, size, 1.0)
+    return obj
+
+
+def daylight(scene, elevation_deg=35.0, rotation_deg=0.0, ground_size=None):
+    """Sky, sun, view transform and exposure for clouds; a ground plane when ground_size is
+    given. Returns a dict of what it set (for reports and tests)."""
+    if not (-90.0 <= elevation_deg <= 90.0):
+        raise ValueError(f"sun elevation must be in [-90, 90] degrees, not {elevation_deg}")
+    make_sky(scene, elevation_deg, rotation_deg)
+    sun = make_sun(scene, elevation_deg, rotation_deg)
+    view = view_transform(scene)
+    if hasattr(scene.view_settings, "look"):
+        scene.view_settings.look = "None"
+    scene.view_settings.exposure = exposure_for(elevation_deg)
+    scene.view_settings.gamma = 1.0
+    if ground_size:
+        make_ground(scene, float(ground_size))
+    return {"view_transform": view, "exposure": scene.view_settings.exposure,
+            "sun_strength": sun.data.energy, "sun_color": tuple(sun.data.color)}
