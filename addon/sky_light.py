@@ -40,7 +40,7 @@ SUN_IRRADIANCE = (
     (90.0, (151.490, 126.520, 102.884)),
 )
 SKY_SHARE = 0.15  # skylight on a sunlit surface, as a share of the direct sun (exposure rule)
-MIDDLE = 1.0      # scene-linear value of a white surface facing the sun after exposure
+MIDDLE = 3.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
 
 
 def denoiser_built_in() -> bool:
@@ -77,7 +77,10 @@ def sun_direction(elevation_deg: float, rotation_deg: float) -> Vector:
 
 def exposure_for(elevation_deg: float) -> float:
     """Film exposure (stops) that brings a white surface facing the sun to MIDDLE: its
-    radiance is about (1 + SKY_SHARE) * E_sun / pi. A low sun gets a longer exposure, as a
+    radiance is about (1 + SKY_SHARE) * E_sun / pi. MIDDLE 3 (not 1): the sunlit side of the
+    default cumulus, seen with the sun behind the camera, measured a third of that surface
+    (a thick cloud sends much of its light out of its other sides), and a photographer
+    exposes for the cloud; AgX rolls the rest off. A low sun gets a longer exposure, as a
     camera would; the floor keeps a set sun from blowing up the sky."""
     lum = max(luminance(sun_irradiance(max(elevation_deg, 2.0))), 1e-3)
     return math.log2(MIDDLE * math.pi / ((1.0 + SKY_SHARE) * lum))
@@ -153,7 +156,7 @@ def make_ground(scene, size: float):
         mat = bpy.data.materials.new(GROUND)
         mat.use_nodes = True
         bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
-        bsdf.inputs["Base Color"].default_value = (0.07, 0.085, 0.05, 1.0)
+        bsdf.inputs["Base Color"].default_value = (0.1, 0.12, 0.07, 1.0)
         bsdf.inputs["Roughness"].default_value = 1.0
         mesh.materials.append(mat)
     if obj.name not in scene.objects:
