@@ -428,6 +428,7 @@ def on_render_end(*_):
 def on_load_post(*_):
     state.errors.clear()
     state.rendering = False
+    _drop_job()  # a refresh of the previous file's cloud must not land on a namesake
     rearm()
     scene = bpy.context.scene
     if state.armed and scene is not None and wanted(scene):
