@@ -17,12 +17,14 @@ bl_info = {
     "tracker_url": "https://example.org/cloudgen/issues",
 }
 
-from . import bake, bake_panel, bridge, checks, light_setup, operators, prefs, preview, props, quality, ui  # noqa: E402
+from . import (  # noqa: E402
+    bake, bake_panel, bridge, checks, light_setup, operators, prefs, preview, props, proxy, proxy_panel, quality, ui,
+)
 
 # Each module has `classes` (registered in order) and may have on_register /
 # on_unregister. Adding a module is one entry here.
-# quality and bake_panel after ui: their panels' parent is CLOUDGEN_PT_main
-_modules = (prefs, props, operators, light_setup, preview, ui, quality, bake, bake_panel, checks)
+# proxy_panel, quality and bake_panel after ui: their panels' parent is CLOUDGEN_PT_main
+_modules = (prefs, props, operators, light_setup, preview, ui, proxy_panel, quality, bake, bake_panel, checks, proxy)
 
 _registered = []
 

@@ -22,6 +22,18 @@ def _preview_changed(self, context):
         preview.refresh(context)
 
 
+def _proxy_changed(self, context):
+    from . import proxy  # noqa: PLC0415
+
+    proxy.on_toggle(self.id_data)
+
+
+def _proxy_resolution_changed(self, context):
+    from . import proxy  # noqa: PLC0415
+
+    proxy.on_resolution(self.id_data)
+
+
 class CloudgenSceneSettings(bpy.types.PropertyGroup):
     cloud_type: bpy.props.EnumProperty(name="Cloud Type", items=cloud_type_items,
                                        description="Type of cloud Add Cloud creates")
@@ -38,6 +50,13 @@ class CloudgenSceneSettings(bpy.types.PropertyGroup):
                                          description="Width of the preview in pixels")
     preview_live: bpy.props.BoolProperty(name="Live", default=True,
                                          description="Update the preview when parameters change")
+    proxy: bpy.props.BoolProperty(
+        name="3D Proxy", default=True, update=_proxy_changed,
+        description="Show a low-resolution volume of each cloud in the viewport (Solid, Eevee, "
+                    "Cycles on a GPU), updated as you edit; never rendered")
+    proxy_resolution: bpy.props.IntProperty(
+        name="Voxels", min=32, max=128, default=64, update=_proxy_resolution_changed,
+        description="Voxels of the 3D proxy along the cloud's longest side (more: finer and slower)")
     quality: bpy.props.EnumProperty(
         name="Cloud Quality", items=quality.tier_items, default=0, update=quality.on_quality_changed,
         description="Quality tier: render samples and step rate, preview size and bake settings "
