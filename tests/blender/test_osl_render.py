@@ -23,7 +23,7 @@ from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/
 GOLDEN = ROOT / "tests" / "golden" / "cumulus_osl"
 PIXEL_THRESHOLD = 0.016
 FAIL_FRACTION = 0.01
-RENDER_ARGS = ["--preset", "cumulus", "--size", "128x128", "--samples", "16", "--seed", "7"]
+RENDER_ARGS = ["--preset", "cumulus", "--size", "128x128", "--samples", "16", "--seed", "7", "--light", "studio"]
 
 
 def test_cumulus_reference_render(tmp_path):

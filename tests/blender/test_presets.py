@@ -74,7 +74,8 @@ def sky(tmp_path_factory):
     import render_cloud
 
     out = tmp_path_factory.mktemp("sky") / "sky.png"
-    args = render_cloud.parse_args(["--preset", "cumulus", "--size", "48x36", "--samples", "4", "--output", str(out)])
+    args = render_cloud.parse_args(["--preset", "cumulus", "--size", "48x36", "--samples", "4", "--light", "studio",
+                                    "--output", str(out)])
     values = render_cloud.resolve_params(args)
     values["density"] = 0.0
     render_cloud.render(render_cloud.build_scene(values, args), out)
@@ -88,7 +89,7 @@ def test_preset_renders_a_cloud(name, sky, tmp_path):
 
     out = tmp_path / f"{name}.png"
     args = render_cloud.parse_args(["--preset", name, "--size", "48x36", "--samples", "4", "--seed", "1",
-                                    "--output", str(out)])
+                                    "--light", "studio", "--output", str(out)])
     scene = render_cloud.build_scene(render_cloud.resolve_params(args), args)
     material = presets()[name]["material"]
     volume = next(n for n in scene.objects["Cloud"].active_material.node_tree.nodes
