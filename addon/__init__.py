@@ -18,7 +18,19 @@ bl_info = {
 }
 
 from . import (  # noqa: E402
-    bake, bake_panel, bridge, checks, light_setup, operators, prefs, preview, props, proxy, proxy_panel, quality, ui,
+    bake,
+    bake_panel,
+    bridge,
+    checks,
+    light_setup,
+    operators,
+    prefs,
+    preview,
+    props,
+    proxy,
+    proxy_panel,
+    quality,
+    ui,
 )
 
 # Each module has `classes` (registered in order) and may have on_register /
