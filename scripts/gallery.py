@@ -51,7 +51,8 @@ def parse_args(argv):
     ap.add_argument("--size", default="640x360")
     ap.add_argument("--samples", type=int, default=32)
     ap.add_argument("--types", default="", help="comma-separated presets (default: all)")
-    ap.add_argument("--shots", default="side-low,below-high", help="comma-separated VIEW-SUN (default side-low,below-high)")
+    ap.add_argument("--shots", default="side-low,below-high",
+                    help="comma-separated VIEW-SUN (default side-low,below-high)")
     ap.add_argument("--resolution", type=int, default=192, help="voxels along a compact cloud's longest side")
     ap.add_argument("--layer-resolution", type=int, default=1024, help="voxels along a layer's longest side")
     ap.add_argument("--names", default=None, help="where the key (file -> type, shot) goes")
@@ -105,7 +106,6 @@ def bake(name, values, box, out_vdb, args):
 
 
 def shot(name, view, sun, vdb, out_png, args):
-    import bpy
     import render_cloud
 
     ra = render_cloud.parse_args(["--preset", name, "--output", out_png, "--size", args.size,
@@ -126,7 +126,9 @@ def shot(name, view, sun, vdb, out_png, args):
     cam.rotation_euler = (math.radians(90.0 + pitch), 0.0, 0.0)
     sl = render_cloud._addon_file("sky_light")
     if sun == "behind":  # the sun right behind the cloud's upper part: silver lining
-        aim = centre + __import__("mathutils").Vector((0.0, 0.0, 0.25 * box[2]))
+        from mathutils import Vector
+
+        aim = centre + Vector((0.0, 0.0, 0.25 * box[2]))
         rel = aim - cam_at
         elevation = math.degrees(math.atan2(rel.z, math.hypot(rel.x, rel.y)))
         sl.daylight(scene, elevation, 0.0, ground_size=1.0e4)
