@@ -8,7 +8,7 @@ from .panel import tooltip
 # Volume bounces for clouds: a thick cloud scatters light many times before it leaves; with
 # fewer bounces the lost light makes it grey (docs/lighting.md: the default cumulus's sunlit
 # side at 1 / 4 / 8 / 16 / 32 bounces).
-CLOUD_BOUNCES = 16
+CLOUD_BOUNCES = 32
 MIN_CLOUD_BOUNCES = 4  # Add Cloud raises a scene's Volume Bounces below this to CLOUD_BOUNCES
 
 

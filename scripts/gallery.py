@@ -19,7 +19,7 @@ field up to the voxel size. Shots:
 
 and suns: low (12°, 120° from the view: side-lit from behind the camera), high (60°, 150°).
 The scene: the Nishita sky, the matched sun lamp, AgX, a dull ground plane to the horizon,
-16 volume bounces, OpenImageDenoise where Blender has it. Files are numbered in a shuffled
+32 volume bounces, OpenImageDenoise where Blender has it. Files are numbered in a shuffled
 order (NN.png, no type in the name) so a reviewer sees no hint; the key is written to
 --names (default OUT/key.json). 1 scene unit is read as 100 m for the altitudes below.
 """
