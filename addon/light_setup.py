@@ -38,6 +38,10 @@ def dark_settings(scene):
                       "BOUNCES"))
     if scene.render.engine == "CYCLES" and scene.cycles.max_bounces < MIN_BOUNCES:
         found.append((f"Total bounces is {scene.cycles.max_bounces}: it caps Volume Bounces", "BOUNCES"))
+    clamp = getattr(scene.cycles, "sample_clamp_indirect", 0.0) if scene.render.engine == "CYCLES" else 0.0
+    if 0.0 < clamp * 2.0 ** scene.view_settings.exposure < sky_light.CLAMP_DISPLAY / 2:
+        found.append((f"Clamp Indirect {clamp:g} at exposure {scene.view_settings.exposure:.1f} cuts the light "
+                      "scattered inside clouds: they render grey", "CLAMP"))
     if scene.view_settings.view_transform == "Standard":
         found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
                       "highlights)", "VIEW"))
@@ -55,7 +59,8 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     what: bpy.props.EnumProperty(items=(("BOUNCES", "Bounces", "Raise volume and total bounces"),
-                                        ("VIEW", "View Transform", "AgX (Filmic before 4.0)")))
+                                        ("VIEW", "View Transform", "AgX (Filmic before 4.0)"),
+                                        ("CLAMP", "Clamp Indirect", "Scale the indirect clamp with the exposure")))
 
     def execute(self, context):
         scene = context.scene
@@ -64,6 +69,9 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
             c.volume_bounces = max(c.volume_bounces, operators.CLOUD_BOUNCES)
             c.max_bounces = max(c.max_bounces, c.volume_bounces)
             self.report({"INFO"}, f"Volume Bounces {c.volume_bounces}, total bounces {c.max_bounces}")
+        elif self.what == "CLAMP":
+            scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
+            self.report({"INFO"}, f"Clamp Indirect {scene.cycles.sample_clamp_indirect:.0f}")
         else:
             self.report({"INFO"}, f"View Transform {sky_light.view_transform(scene)}")
         return {"FINISHED"}

@@ -61,6 +61,7 @@ def test_sky_and_sun_match(addon, scene, cloud):
     assert scene.view_settings.view_transform == "AgX"
     assert math.isclose(scene.view_settings.exposure, sl.exposure_for(20.0), abs_tol=1e-4)
     assert scene.cycles.volume_bounces == addon.operators.CLOUD_BOUNCES
+    assert math.isclose(scene.cycles.sample_clamp_indirect * 2 ** scene.view_settings.exposure, 10.0, rel_tol=1e-4)
     assert addon.light_setup.dark_settings(scene) == []
 
 
@@ -87,11 +88,14 @@ def test_dark_settings_said_and_fixed(addon, scene, cloud):
     scene.collection.objects.link(sun)
     scene.cycles.volume_bounces = 1
     scene.view_settings.view_transform = "Standard"
+    scene.view_settings.exposure = -5.0  # a physical sky's exposure with Cycles' default clamp 10
+    scene.cycles.sample_clamp_indirect = 10.0
     found = addon.light_setup.dark_settings(scene)
-    assert [fix for _, fix in found] == ["BOUNCES", "VIEW"], found
-    assert "Volume Bounces is 1" in found[0][0] and "Standard" in found[1][0], found
-    assert bpy.ops.cloudgen.fix_dark(what="BOUNCES") == {"FINISHED"}
-    assert bpy.ops.cloudgen.fix_dark(what="VIEW") == {"FINISHED"}
+    assert [fix for _, fix in found] == ["BOUNCES", "CLAMP", "VIEW"], found
+    assert "Volume Bounces is 1" in found[0][0] and "Standard" in found[2][0], found
+    for what in ("BOUNCES", "CLAMP", "VIEW"):
+        assert bpy.ops.cloudgen.fix_dark(what=what) == {"FINISHED"}
+    assert scene.cycles.sample_clamp_indirect == pytest.approx(320.0)
     assert scene.cycles.volume_bounces == addon.operators.CLOUD_BOUNCES
     assert scene.view_settings.view_transform == "AgX"
     assert addon.light_setup.dark_settings(scene) == []
