@@ -97,7 +97,7 @@ int cmd_preview(const std::vector<std::string>& argv) {
     s.height = static_cast<int>(std::clamp(std::lround(double(s.width) * aspect), 1L, long(kMaxImageSide)));
   }
   cgio::check_output_path(output);
-  cgio::load_image_plugin();  // OpenImageIO: before any work, so a missing plugin fails at once
+  cgio::load_image_plugin();               // OpenImageIO: before any work, so a missing plugin fails at once
   cgio::remove_stale_temporaries(output);  // left by a killed run
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -108,7 +108,8 @@ int cmd_preview(const std::vector<std::string>& argv) {
   meta.params_json = cg::params_to_json(params);
   meta.axis = axis[0];
   meta.offset = s.offset;
-  file.write_with([&](const std::string& tmp) { cgio::write_slice_with_plugin(tmp, *format, values, s.width, s.height, meta); });
+  file.write_with(
+      [&](const std::string& tmp) { cgio::write_slice_with_plugin(tmp, *format, values, s.width, s.height, meta); });
   if (cancel_requested()) throw cg::Cancelled();
   file.commit();
   const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());

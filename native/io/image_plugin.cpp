@@ -13,9 +13,7 @@
 
 namespace {
 
-std::string plugin_id() {
-  return "cloudgen-image " + std::to_string(CLOUDGEN_IMAGE_PLUGIN_ABI) + " " + cg::version();
-}
+std::string plugin_id() { return "cloudgen-image " + std::to_string(CLOUDGEN_IMAGE_PLUGIN_ABI) + " " + cg::version(); }
 
 }  // namespace
 

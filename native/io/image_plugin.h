@@ -18,9 +18,9 @@ extern "C" {
 #define CLOUDGEN_IMAGE_PLUGIN_ABI 1
 
 struct CloudgenImageSlice {
-  const char* path;         // the file to write (a temporary name; see atomic_file.h)
-  int format;               // 0 = PNG, 1 = EXR (cgio::ImageFormat)
-  const float* values;      // width × height densities, row-major, row 0 at the top
+  const char* path;     // the file to write (a temporary name; see atomic_file.h)
+  int format;           // 0 = PNG, 1 = EXR (cgio::ImageFormat)
+  const float* values;  // width × height densities, row-major, row 0 at the top
   int width, height;
   const char* params_json;  // cg::params_to_json of the parameters
   char axis;                // 'x', 'y' or 'z'

@@ -25,7 +25,8 @@ struct Plugin {
 std::string executable_dir() {
   char buf[PATH_MAX + 1];
   const ssize_t n = ::readlink("/proc/self/exe", buf, PATH_MAX);
-  if (n <= 0) throw IoError(std::string("cannot find the cloudgen executable (/proc/self/exe): ") + std::strerror(errno));
+  if (n <= 0)
+    throw IoError(std::string("cannot find the cloudgen executable (/proc/self/exe): ") + std::strerror(errno));
   const std::string exe(buf, std::size_t(n));
   const auto slash = exe.find_last_of('/');
   return slash == std::string::npos ? std::string(".") : exe.substr(0, slash);
@@ -81,8 +82,15 @@ void write_slice_with_plugin(const std::string& path, ImageFormat format, const 
   load_image_plugin();
   if (width < 1 || height < 1 || values.size() != std::size_t(width) * std::size_t(height))
     throw IoError("cannot write '" + path + "': image size does not match its pixels");
-  const CloudgenImageSlice s{path.c_str(), format == ImageFormat::Png ? 0 : 1, values.data(), width, height,
-                             meta.params_json.c_str(), meta.axis, meta.offset};
+  CloudgenImageSlice s{};
+  s.path = path.c_str();
+  s.format = format == ImageFormat::Png ? 0 : 1;
+  s.values = values.data();
+  s.width = width;
+  s.height = height;
+  s.params_json = meta.params_json.c_str();
+  s.axis = meta.axis;
+  s.offset = meta.offset;
   char error[1024] = {0};
   if (plugin().write_slice(&s, error, sizeof error) != 0)
     throw IoError(error[0] ? error : ("cannot write '" + path + "': the image plugin failed"));

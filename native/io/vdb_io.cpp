@@ -13,8 +13,8 @@
 #include <mutex>
 #include <sstream>
 
-#include "cloudgen/param_io.h"
 #include "cloudgen/parallel.h"
+#include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
 #include "io/vdb_check.h"
 
