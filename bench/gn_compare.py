@@ -145,60 +145,77 @@ def bake_cmd(cli, out, res, preset=None, params=None):
     return [cli, "bake", *src, "--resolution", res, "--output", out, "--quiet"]
 
 
-def measure(args):
+PARTS = ("compare", "growth", "octaves")
+
+
+def measure(args, result):
+    """Measures the parts in args.parts into `result` (other parts are kept as they are)."""
     cli = Path(args.build) / "bin" / "cloudgen"
     if not cli.is_file():
         raise SystemExit(f"gn_compare: {cli} missing (build the project first)")
     res_cmp = [64, 128] if args.quick else [128, 256]
     growth = [r for r in (64, 128, 256, 512, 1024) if r <= args.max_resolution]
     octaves = [1, 3, 5, 8, 12, 16]
-    result = {"machine": machine_info(), "load_start": load(), "cli": str(cli), "reps": args.reps,
-              "gn_reps": args.gn_reps, "gn_like_params": GN_LIKE}
+    result.update({"machine": machine_info(), "cli": str(cli), "reps": args.reps, "gn_reps": args.gn_reps,
+                   "gn_like_params": GN_LIKE})
+    loads = result.setdefault("loads", {})
     with tempfile.TemporaryDirectory(prefix="cloudgen-gn-compare-") as tmp:
         tmp = Path(tmp)
         out = tmp / "bake.vdb"
-        gn_like = tmp / "gn_like.json"
-        gn_like.write_text(json.dumps(GN_LIKE))
-        if not args.no_blender:
-            result["gn"] = {}
-            for res in res_cmp:
-                result["gn"][str(res)] = gn_times(res, args.gn_reps)
-                print(f"GN {res}^3: {result['gn'][str(res)]['best_s']:.3f} s", flush=True)
-        result["version"] = best_of([cli, "--version"], max(args.reps, 5))
-        result["preview_cli"] = best_of([cli, "preview", "--preset", "cumulus", "--axis", "y", "--size", 256,
-                                         "--output", tmp / "slice.png"], max(args.reps, 5))
-        result["ours"] = {}
-        for name, kw in (("cumulus", {"preset": "cumulus"}), ("gn_like", {"params": gn_like})):
-            result["ours"][name] = {}
-            for res in res_cmp:
-                run_measured(bake_cmd(cli, out, res, **kw))  # warm-up (page cache)
-                r = best_of(bake_cmd(cli, out, res, **kw), args.reps)
-                r["bytes"] = out.stat().st_size
-                result["ours"][name][str(res)] = r
-                print(f"{name} {res}^3: {r['best_s']:.3f} s", flush=True)
-        if "gn" in result:
-            result["ratio"] = {name: {res: result["gn"][res]["best_s"] / result["ours"][name][res]["best_s"]
-                                      for res in result["gn"]} for name in result["ours"]}
-        result["growth"] = {}
-        for preset in ("cumulus", "stratocumulus"):
-            result["growth"][preset] = {}
-            for res in growth:
-                reps = 1 if res >= 1024 else (2 if res >= 512 else args.reps)
-                r = best_of(bake_cmd(cli, out, res, preset=preset), reps)
-                r["bytes"] = out.stat().st_size
-                result["growth"][preset][str(res)] = r
-                print(f"{preset} {res}^3: {r['best_s']:.3f} s, {r['peak_rss_mib']:.0f} MiB", flush=True)
-                out.unlink()
-        result["octaves"] = {}
-        for oct_ in octaves:
-            pf = tmp / f"oct{oct_}.json"
-            pf.write_text(json.dumps({"preset": "cumulus", "noise_detail": float(oct_)}))
+        if "compare" in args.parts:
+            loads["compare"] = [load()]
+            gn_like = tmp / "gn_like.json"
+            gn_like.write_text(json.dumps(GN_LIKE))
+            result.pop("gn", None)
+            result.pop("ratio", None)
+            if not args.no_blender:
+                result["gn"] = {}
+                for res in res_cmp:
+                    result["gn"][str(res)] = gn_times(res, args.gn_reps)
+                    print(f"GN {res}^3: {result['gn'][str(res)]['best_s']:.3f} s", flush=True)
+            result["version"] = best_of([cli, "--version"], max(args.reps, 5))
+            result["preview_cli"] = best_of([cli, "preview", "--preset", "cumulus", "--axis", "y", "--size", 256,
+                                             "--output", tmp / "slice.png"], max(args.reps, 5))
+            result["ours"] = {}
+            for name, kw in (("cumulus", {"preset": "cumulus"}), ("gn_like", {"params": gn_like})):
+                result["ours"][name] = {}
+                for res in res_cmp:
+                    run_measured(bake_cmd(cli, out, res, **kw))  # warm-up (page cache)
+                    r = best_of(bake_cmd(cli, out, res, **kw), args.reps)
+                    r["bytes"] = out.stat().st_size
+                    result["ours"][name][str(res)] = r
+                    print(f"{name} {res}^3: {r['best_s']:.3f} s", flush=True)
+            if "gn" in result:
+                result["ratio"] = {name: {res: result["gn"][res]["best_s"] / result["ours"][name][res]["best_s"]
+                                          for res in result["gn"]} for name in result["ours"]}
+            loads["compare"].append(load())
+        if "growth" in args.parts:
+            loads["growth"] = [load()]
+            result["growth"] = {}
+            for preset in ("cumulus", "stratocumulus"):
+                result["growth"][preset] = {}
+                for res in growth:
+                    reps = 1 if res >= 1024 else (2 if res >= 512 else args.reps)
+                    r = best_of(bake_cmd(cli, out, res, preset=preset), reps)
+                    r["bytes"] = out.stat().st_size
+                    result["growth"][preset][str(res)] = r
+                    print(f"{preset} {res}^3: {r['best_s']:.3f} s, {r['peak_rss_mib']:.0f} MiB", flush=True)
+                    out.unlink()
+            loads["growth"].append(load())
+        if "octaves" in args.parts:
+            loads["octaves"] = [load()]
+            result["octaves"] = {}
             res = 128 if args.quick else 256
-            r = best_of(bake_cmd(cli, out, res, params=pf), args.reps)
-            r["resolution"] = res
-            result["octaves"][str(oct_)] = r
-            print(f"cumulus {res}^3, noise_detail {oct_}: {r['best_s']:.3f} s", flush=True)
-    result["load_end"] = load()
+            for oct_ in octaves:
+                pf = tmp / f"oct{oct_}.json"
+                pf.write_text(json.dumps({"preset": "cumulus", "noise_detail": float(oct_)}))
+                r = {"resolution": res}
+                for mode, extra in (("lod", []), ("no_lod", ["--no-lod"])):
+                    r[mode] = best_of(bake_cmd(cli, out, res, params=pf) + extra, args.reps)
+                result["octaves"][str(oct_)] = r
+                print(f"cumulus {res}^3, noise_detail {oct_}: LOD {r['lod']['best_s']:.3f} s, "
+                      f"no LOD {r['no_lod']['best_s']:.3f} s", flush=True)
+            loads["octaves"].append(load())
     return result
 
 
@@ -212,11 +229,11 @@ def fmt_s(s):
 def render(doc, results):
     r = json.loads((results / "gn_compare.json").read_text())
     m = r["machine"]
+    loads = "; ".join(f"{part} {v[0][0]:.1f} → {v[1][0]:.1f}" for part, v in r["loads"].items())
     lines = [f"Measured by `bench/gn_compare.py` (results: `bench/results/gn_compare.json`) on "
-             f"{m['cpu_model']}, {m['nproc']} cores ({', '.join(m['simd'])}), load average "
-             f"{r['load_start'][0]:.2f} at the start and {r['load_end'][0]:.2f} at the end "
-             "(the machine is shared: figures are the best of the runs). Times are wall-clock, "
-             "whole process for cloudgen.", ""]
+             f"{m['cpu_model']}, {m['nproc']} cores ({', '.join(m['simd'])}); 1-minute load average at the start "
+             f"and end of each part: {loads} (the machine is shared: figures are the best of the runs). "
+             "Times are wall-clock, whole process for cloudgen.", ""]
     if "gn" in r:
         lines += ["| Grid | Blender GN Volume Cube (evaluation only) | cloudgen cumulus (whole process) | ratio "
                   "| cloudgen gn_like (whole process) | ratio |", "|---|---|---|---|---|---|"]
@@ -243,17 +260,20 @@ def render(doc, results):
                       f"`bench/results/native.json` of {n['meta']['date_utc']}, load "
                       f"{n['meta']['load_average_start']:.2f}): {p[('defaults', False, 1)] * 1000:.2f} ms on 1 thread, "
                       f"**{p[('defaults', False, 2)] * 1000:.2f} ms on 2** (target ≤ 5 ms)."]
-    lines += ["", "**Growth with resolution** (whole process, best of the runs; peak RSS of the process):", "",
+    lines += ["", "**Growth with resolution** (N voxels along the box's longest side: the cumulus is N × N × 3N/4, "
+              "the stratocumulus layer (12 × 12 × 1.6 box) N × N × 0.13 N; whole process, best of the runs; "
+              "peak RSS of the process):", "",
               "| Resolution | cumulus time | cumulus peak RSS | stratocumulus time | stratocumulus peak RSS |",
               "|---|---|---|---|---|"]
     for res in r["growth"]["cumulus"]:
         c, s = r["growth"]["cumulus"][res], r["growth"]["stratocumulus"].get(res)
         srow = f"{fmt_s(s['best_s'])} | {s['peak_rss_mib']:.0f} MiB" if s else "– | –"
         lines.append(f"| {res}³ | {fmt_s(c['best_s'])} | {c['peak_rss_mib']:.0f} MiB | {srow} |")
-    lines += ["", "**Against noise detail** (cumulus, whole process):", "", "| noise_detail (octaves) | time |",
-              "|---|---|"]
+    lines += ["", "**Against noise detail** (cumulus, whole process; with LOD the bake evaluates no octave finer "
+              "than a voxel can hold, so octaves past that limit cost nothing):", "",
+              "| noise_detail (octaves) | grid | time, LOD (default) | time, `--no-lod` |", "|---|---|---|---|"]
     for oct_, o in r["octaves"].items():
-        lines.append(f"| {oct_} ({o['resolution']}³) | {fmt_s(o['best_s'])} |")
+        lines.append(f"| {oct_} | {o['resolution']}³ | {fmt_s(o['lod']['best_s'])} | {fmt_s(o['no_lod']['best_s'])} |")
     atomic_write(doc, splice(Path(doc).read_text(), BEGIN, END, "\n".join(lines)))
 
 
@@ -272,11 +292,19 @@ def main():
     ap.add_argument("--max-resolution", type=int, default=1024)
     ap.add_argument("--no-blender", action="store_true")
     ap.add_argument("--quick", action="store_true", help="small sizes, results printed, nothing saved")
+    ap.add_argument("--parts", default=",".join(PARTS),
+                    help="comma-separated subset of %s; the others are kept from the existing JSON" % ",".join(PARTS))
     ap.add_argument("--json", default=str(RESULTS / "gn_compare.json"))
     a = ap.parse_args()
+    a.parts = set(a.parts.split(","))
+    if not a.parts <= set(PARTS):
+        ap.error(f"--parts: choose from {','.join(PARTS)}")
     if a.quick:
         a.max_resolution = min(a.max_resolution, 128)
-    result = measure(a)
+    old = {}
+    if not a.quick and a.parts != set(PARTS) and Path(a.json).is_file():
+        old = json.loads(Path(a.json).read_text())
+    result = measure(a, old)
     if a.quick:
         print(json.dumps(result, indent=1))
         return
