@@ -399,6 +399,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     if (cancel_requested()) throw cg::Cancelled();
     cgio::VdbWriteOptions wo;
     wo.half = half;
+    wo.threads = p.opts.threads;
     wo.params_json = cg::params_to_json(job.params);
     wo.preset = preset;
     wo.time = job.params.get(cg::TIME);

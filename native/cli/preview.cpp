@@ -11,7 +11,8 @@
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
-#include "io/image_io.h"
+#include "io/image_format.h"
+#include "io/image_plugin_loader.h"
 
 namespace cli {
 
@@ -96,6 +97,7 @@ int cmd_preview(const std::vector<std::string>& argv) {
     s.height = static_cast<int>(std::clamp(std::lround(double(s.width) * aspect), 1L, long(kMaxImageSide)));
   }
   cgio::check_output_path(output);
+  cgio::load_image_plugin();               // OpenImageIO: before any work, so a missing plugin fails at once
   cgio::remove_stale_temporaries(output);  // left by a killed run
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -106,7 +108,8 @@ int cmd_preview(const std::vector<std::string>& argv) {
   meta.params_json = cg::params_to_json(params);
   meta.axis = axis[0];
   meta.offset = s.offset;
-  file.write_with([&](const std::string& tmp) { cgio::write_slice(tmp, *format, values, s.width, s.height, meta); });
+  file.write_with(
+      [&](const std::string& tmp) { cgio::write_slice_with_plugin(tmp, *format, values, s.width, s.height, meta); });
   if (cancel_requested()) throw cg::Cancelled();
   file.commit();
   const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());

@@ -1,37 +1,14 @@
-// io/image_io.cpp — PNG/EXR slices through OpenImageIO.
+// io/image_io.cpp — PNG/EXR slices through OpenImageIO (built into the image plugin and the I/O tests).
 #include "io/image_io.h"
 
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
 
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
 
 namespace cgio {
-
-std::optional<ImageFormat> image_format_for(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  const auto dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::nullopt;
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == "png") return ImageFormat::Png;
-  if (ext == "exr") return ImageFormat::Exr;
-  return std::nullopt;
-}
-
-float png_display(float density) {
-  const float d = std::isfinite(density) ? std::max(density, 0.0f) : 0.0f;
-  return 1.0f - std::exp(-d / 4.0f);
-}
-
-std::uint8_t png_level(float density) {
-  const float level = std::round(255.0f * png_display(density));
-  return static_cast<std::uint8_t>(std::clamp(level, 0.0f, 255.0f));
-}
 
 void write_slice(const std::string& path, ImageFormat format, const std::vector<float>& values, int width, int height,
                  const SliceMeta& meta) {

@@ -8,10 +8,12 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <memory>
 
 #include <mutex>
 #include <sstream>
 
+#include "cloudgen/parallel.h"
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
 #include "io/vdb_check.h"
@@ -30,9 +32,12 @@ void init_openvdb() {
 
 // Builds the tree leaf by leaf from the 8^3 tiles, which are aligned exactly
 // like OpenVDB's leaf nodes (origin multiple of 8). Tiles are x-fastest;
-// leaves are z-fastest, so the offset is recomputed per voxel.
-openvdb::FloatGrid::Ptr grid_from_bake(const cg::BakeResult& bake) {
-  static_assert(openvdb::FloatTree::LeafNodeType::DIM == cg::kTile, "tile = leaf");
+// leaves are z-fastest, so the offset is recomputed per voxel. The leaves are
+// filled in parallel (`threads` as cg::parallel_for), then linked into the tree
+// in one pass; the tree (and the file) do not depend on the order.
+openvdb::FloatGrid::Ptr grid_from_bake(const cg::BakeResult& bake, int threads) {
+  using Leaf = openvdb::FloatTree::LeafNodeType;
+  static_assert(Leaf::DIM == cg::kTile, "tile = leaf");
   auto grid = openvdb::FloatGrid::create(0.0f);
   grid->setName("density");
   grid->setGridClass(openvdb::GRID_FOG_VOLUME);
@@ -42,18 +47,23 @@ openvdb::FloatGrid::Ptr grid_from_bake(const cg::BakeResult& bake) {
   xform->postTranslate(
       openvdb::Vec3d(double(g.origin[0]) + 0.5 * v, double(g.origin[1]) + 0.5 * v, double(g.origin[2]) + 0.5 * v));
   grid->setTransform(xform);
-  auto& tree = grid->tree();
-  for (const cg::Tile& tile : bake.tiles) {
-    openvdb::FloatTree::LeafNodeType* leaf = nullptr;
+  std::vector<std::unique_ptr<Leaf>> leaves(bake.tiles.size());
+  cg::parallel_for(std::int64_t(bake.tiles.size()), threads, [&](std::int64_t t, int) {
+    const cg::Tile& tile = bake.tiles[std::size_t(t)];
+    std::unique_ptr<Leaf> leaf;
     for (int k = 0; k < cg::kTile; ++k)
       for (int j = 0; j < cg::kTile; ++j)
         for (int i = 0; i < cg::kTile; ++i) {
           const float d = tile.values[(k * cg::kTile + j) * cg::kTile + i];
           if (!(d > 0.0f)) continue;  // background: inactive 0 (also drops NaN, which the kernel never makes)
-          if (!leaf) leaf = tree.touchLeaf(openvdb::Coord(tile.index[0], tile.index[1], tile.index[2]));
+          if (!leaf) leaf = std::make_unique<Leaf>(openvdb::Coord(tile.index[0], tile.index[1], tile.index[2]), 0.0f);
           leaf->setValueOn(openvdb::Index((i << 6) | (j << 3) | k), d);
         }
-  }
+    leaves[std::size_t(t)] = std::move(leaf);
+  });
+  auto& tree = grid->tree();
+  for (auto& leaf : leaves)
+    if (leaf) tree.addLeaf(leaf.release());
   return grid;
 }
 
@@ -183,7 +193,7 @@ MergeStats merge_vdb_bricks(const std::vector<std::string>& bricks, const std::s
 void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWriteOptions& o) {
   init_openvdb();
   guarded("cannot write '" + path + "'", [&] {
-    auto grid = grid_from_bake(bake);
+    auto grid = grid_from_bake(bake, o.threads);
     grid->insertMeta("cloudgen_version", openvdb::StringMetadata(cg::version()));
     grid->insertMeta("cloudgen_params", openvdb::StringMetadata(o.params_json));
     if (!o.preset.empty()) grid->insertMeta("cloudgen_preset", openvdb::StringMetadata(o.preset));

@@ -35,6 +35,7 @@ struct VdbWriteOptions {
   // bake has; `cloudgen merge` checks and drops both. Empty: a whole bake.
   std::string brick;
   std::string whole_bake_key;
+  int threads = 0;  // building the tree: as cg::BakeOptions::threads (0 = one per core)
 };
 
 // Writes `bake` to `path` (the caller passes a temporary, see atomic_file.h).

@@ -1,0 +1,37 @@
+// io/image_format.h — what a cross-section image file is, without the library
+// that writes it (the CLI links this; OpenImageIO lives in the image plugin,
+// see image_plugin.h).
+//
+// A slice (row-major floats, row 0 at the top, see cg::slice) is written as
+//   .png  8-bit grey for the eye: level = round(255 · (1 − exp(−density / 4)))
+//         (0 = empty, 255 = opaque; the mapping is monotone and saturates
+//         smoothly, so thin and dense regions both stay visible)
+//   .exr  32-bit float, one channel "Y" holding the density itself, with
+//         metadata cloudgen:params (JSON), cloudgen:axis, cloudgen:offset,
+//         cloudgen:version (PNG gets the same entries as text).
+// The format follows the extension (case-insensitive); anything else is
+// refused by the caller with a message naming --output.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace cgio {
+
+enum class ImageFormat { Png, Exr };
+
+// The format for a file name by its extension, or nothing.
+std::optional<ImageFormat> image_format_for(const std::string& path);
+
+// The documented PNG display mapping.
+float png_display(float density);       // 1 - exp(-density / 4), in [0, 1)
+std::uint8_t png_level(float density);  // round(255 · png_display)
+
+struct SliceMeta {
+  std::string params_json;
+  char axis = 'z';
+  float offset = 0.5f;
+};
+
+}  // namespace cgio
