@@ -154,6 +154,34 @@ def build_main_group(shape_curve, name=MAIN_GROUP):
     return ng
 
 
+LOD_INPUT = "lod_pixel_angle"
+# radians per pixel of the scene camera: 2 tan(angle/2) over the pixels along its sensor fit
+# (AUTO: the longer side), resolution percentage applied; 0 (LOD off) unless perspective
+LOD_EXPRESSION = "(t == 0) * 2 * tan(a / 2) * 100 / (p * ((f == 0) * max(x, y) + (f == 1) * x + (f == 2) * y))"
+LOD_VARIABLES = (("a", "camera.data.angle"), ("t", "camera.data.type"), ("f", "camera.data.sensor_fit"),
+                 ("x", "render.resolution_x"), ("y", "render.resolution_y"), ("p", "render.resolution_percentage"))
+
+
+def drive_lod_pixel_angle(ng, noise, scene=None):
+    """Cloud Noise's LOD Pixel Angle (a shader input, not a group socket) follows the scene
+    camera, so octaves finer than a pixel at the shading point's distance are not evaluated
+    (docs/osl.md). A simple-expression driver: runs without Python auto-exec. No camera, or
+    an orthographic or panoramic one: the driver gives 0 or fails, and 0 means every octave."""
+    scene = scene or bpy.context.scene
+    path = noise.inputs[LOD_INPUT].path_from_id("default_value")
+    ng.driver_remove(path)
+    drv = ng.driver_add(path).driver
+    drv.type = "SCRIPTED"
+    for name, data_path in LOD_VARIABLES:
+        var = drv.variables.new()
+        var.name = name
+        var.type = "SINGLE_PROP"
+        var.targets[0].id_type = "SCENE"
+        var.targets[0].id = scene
+        var.targets[0].data_path = data_path
+    drv.expression = LOD_EXPRESSION
+
+
 def _node_of_type(ng, idname):
     return next((n for n in ng.nodes if n.bl_idname == idname), None)
 
@@ -175,6 +203,8 @@ def _wire(ng):
             ng.links.new(tc.outputs["Generated"], noise.inputs["Generated"])
             _link_params(ng, gi, noise, params)
             ng.links.new(noise.outputs["Noise"], go.inputs["Noise"])
+            if LOD_INPUT in noise.inputs:
+                drive_lod_pixel_angle(ng, noise)
     if "cloud_main" in nodes and "cloud_height" in nodes:
         params = group_parameters(MAIN_GROUP)
         main, height, curve = nodes["cloud_main"], nodes["cloud_height"], nodes.get(CURVE_NODE)

@@ -95,7 +95,7 @@ def test_osl_parameters_match_declarations(empty_scene, shader):
     blender_nodes.ensure_oslquery_importable()
     params = osl_parameters(shader)
     decl = {d["name"]: d for d in cloudgen_native.parameters()}
-    extra = {"Generated", "shape_gradient", "distortion_noise", "lod_footprint"}
+    extra = {"Generated", "shape_gradient", "distortion_noise", "lod_footprint", "lod_pixel_angle"}
     problems = []
     for name, (p, meta) in params.items():
         key = {v: k for k, v in blender_nodes.OSL_SOCKET_NAME.items()}.get(name, name)
