@@ -148,6 +148,31 @@ CG_FN float cg_worley_d2(int h, int i, int j, int k, float dx, float dy, float d
   return ox * ox + oy * oy + oz * oz;
 }
 
+/* The unpruned 27-cell search: what cg_worley_f1 equals bit for bit (tests hold the two
+ * equal); with CG_WORLEY_FULL_SEARCH defined, cg_worley_f1 is this (the benchmarks' shader
+ * of the thesis's kind: Blender's Voronoi texture searches all 27 cells). */
+CG_FN float cg_worley_f1_full(float px, float py, float pz, int seed) {
+  float x = cg_wrap(px);
+  float y = cg_wrap(py);
+  float z = cg_wrap(pz);
+  float fx = floor(x);
+  float fy = floor(y);
+  float fz = floor(z);
+  int ix = int(fx) & CG_PERIOD_MASK;
+  int iy = int(fy) & CG_PERIOD_MASK;
+  int iz = int(fz) & CG_PERIOD_MASK;
+  float best = 16;
+  for (int k = -1; k <= 1; k += 1) {
+    int hz = cg_mix32(((iz + k) & CG_PERIOD_MASK) ^ seed);
+    for (int j = -1; j <= 1; j += 1) {
+      int hy = cg_mix32(((iy + j) & CG_PERIOD_MASK) ^ hz);
+      for (int i = -1; i <= 1; i += 1)
+        best = min(best, cg_worley_d2(cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy), i, j, k, x - fx, y - fy, z - fz));
+    }
+  }
+  return min(sqrt(best), CG_WORLEY_F1_CAP);
+}
+
 /* Worley F1, capped: min(distance to the nearest feature point, 1.05), one
  * point per cell, the 27 cells around p searched. Exact — equal to a search of
  * every cell, then capped — because no point outside the 27 cells can be nearer
@@ -163,6 +188,9 @@ CG_FN float cg_worley_d2(int h, int i, int j, int k, float dx, float dy, float d
  * result, is bit for bit that of the full 27-cell search (tests/native check it
  * against one). About 7 of the 27 cells are hashed on average. */
 CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
+#ifdef CG_WORLEY_FULL_SEARCH
+  return cg_worley_f1_full(px, py, pz, seed);
+#endif
   float x = cg_wrap(px);
   float y = cg_wrap(py);
   float z = cg_wrap(pz);
@@ -192,29 +220,6 @@ CG_FN float cg_worley_f1(float px, float py, float pz, int seed) {
         if ((gx * gx + gy2) + gz2 >= best) continue;
         best = min(best, cg_worley_d2(cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy), i, j, k, dx, dy, dz));
       }
-    }
-  }
-  return min(sqrt(best), CG_WORLEY_F1_CAP);
-}
-
-/* The unpruned 27-cell search of cg_worley_f1, for the tests that hold the two equal. */
-CG_FN float cg_worley_f1_full(float px, float py, float pz, int seed) {
-  float x = cg_wrap(px);
-  float y = cg_wrap(py);
-  float z = cg_wrap(pz);
-  float fx = floor(x);
-  float fy = floor(y);
-  float fz = floor(z);
-  int ix = int(fx) & CG_PERIOD_MASK;
-  int iy = int(fy) & CG_PERIOD_MASK;
-  int iz = int(fz) & CG_PERIOD_MASK;
-  float best = 16;
-  for (int k = -1; k <= 1; k += 1) {
-    int hz = cg_mix32(((iz + k) & CG_PERIOD_MASK) ^ seed);
-    for (int j = -1; j <= 1; j += 1) {
-      int hy = cg_mix32(((iy + j) & CG_PERIOD_MASK) ^ hz);
-      for (int i = -1; i <= 1; i += 1)
-        best = min(best, cg_worley_d2(cg_mix32(((ix + i) & CG_PERIOD_MASK) ^ hy), i, j, k, x - fx, y - fy, z - fz));
     }
   }
   return min(sqrt(best), CG_WORLEY_F1_CAP);
