@@ -182,6 +182,8 @@ def _status(text):
 @bpy.app.handlers.persistent
 def on_render_pre(scene, *_):
     try:
+        if scene.camera is not None:
+            nodes.revalidate_lod_drivers()  # a cloud added before the camera was
         missing, warnings = problems(scene)
     except Exception as exc:  # noqa: BLE001 - a check must never stop a render by itself
         print(f"cloudgen: warning: the pre-render check failed: {exc}", file=sys.stderr, flush=True)

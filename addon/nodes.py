@@ -182,6 +182,24 @@ def drive_lod_pixel_angle(ng, noise, scene=None):
     drv.expression = LOD_EXPRESSION
 
 
+def revalidate_lod_drivers():
+    """Re-enable LOD Pixel Angle drivers Blender marked invalid (a cloud added while the scene
+    had no camera: `camera.data` did not resolve, and Blender never retries an invalid
+    driver by itself, so the cloud rendered at full detail after a camera was added).
+    Returns how many were re-enabled; the render_pre check calls it."""
+    count = 0
+    for ng in bpy.data.node_groups:
+        noise = ng.nodes.get("cloud_noise") if ng.animation_data is not None else None
+        if noise is None or LOD_INPUT not in noise.inputs:
+            continue
+        fc = ng.animation_data.drivers.find(noise.inputs[LOD_INPUT].path_from_id("default_value"))
+        if fc is not None and not fc.driver.is_valid:
+            fc.driver.is_valid = True
+            fc.driver.expression = fc.driver.expression  # rebuilds the driver's dependencies
+            count += 1
+    return count
+
+
 def _node_of_type(ng, idname):
     return next((n for n in ng.nodes if n.bl_idname == idname), None)
 

@@ -85,3 +85,24 @@ def test_no_camera_means_every_octave(addon):
     bpy.ops.wm.read_homefile(use_empty=True)
     bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
     assert driven_angle(addon, bpy.context.view_layer.objects.active) == 0.0
+
+
+def test_camera_added_after_the_cloud(addon):
+    """A cloud added before the scene had a camera: Blender marks its driver invalid and never
+    retries it; the pre-render check re-enables it, so the render follows the camera added
+    since (tolerance REL)."""
+    import bpy
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
+    cloud = bpy.context.view_layer.objects.active
+    assert driven_angle(addon, cloud) == 0.0
+    cam_data = bpy.data.cameras.new("Camera")
+    cam = bpy.data.objects.new("Camera", cam_data)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 256, 256, 100
+    addon.checks.on_render_pre(scene)
+    got, want = driven_angle(addon, cloud), want_angle(addon, scene, cam_data)
+    assert got == pytest.approx(want, rel=REL), (got, want)
