@@ -52,6 +52,27 @@ std::vector<Named> parameter_sets() {
     p.set(cg::BOX_SIZE, box, 3);
     sets.push_back({"exponent profile " + std::to_string(e), p});
   }
+  // The shape terms: flat base and top, lean both ways, sheet, edge, turrets, warp.
+  p = cumulus();
+  p.set(cg::BASE_HEIGHT, 0.1f);
+  p.set(cg::TOP_HEIGHT, 0.8f);
+  p.set(cg::LEAN, 0.6f);
+  p.set(cg::EDGE_SHARPNESS, 0.8f);
+  p.set(cg::TURRET_INFLUENCE, 0.5f);
+  sets.push_back({"base, top, lean", p});
+  p.set(cg::LEAN, -1.5f);
+  p.set(cg::SHEAR, -1.0f);
+  p.set(cg::STRETCH, 4.0f);
+  sets.push_back({"lean back, sheared", p});
+  p = cg::Params();
+  p.set(cg::SHEET, 1.0f);
+  p.set(cg::SHAPE_MODE, 1.0f);
+  const float layer[3] = {40, 30, 1.5f};
+  p.set(cg::BOX_SIZE, layer, 3);
+  sets.push_back({"sheet", p});
+  p.set(cg::SHEET, 0.4f);
+  p.set(cg::BASE_HEIGHT, 0.3f);
+  sets.push_back({"half sheet with a base", p});
   return sets;
 }
 
