@@ -22,7 +22,8 @@ cg::Params cumulus() { return cg::find_preset("cumulus")->params; }
 
 // A point uniformly inside the box.
 vec3 inside(const cg::Model& m, Rng& rng) {
-  return {rng.uniformf(double(-0.5f * m.box[0]), double(0.5f * m.box[0])), rng.uniformf(double(-0.5f * m.box[1]), double(0.5f * m.box[1])),
+  return {rng.uniformf(double(-0.5f * m.box[0]), double(0.5f * m.box[0])),
+          rng.uniformf(double(-0.5f * m.box[1]), double(0.5f * m.box[1])),
           rng.uniformf(double(-0.5f * m.box[2]), double(0.5f * m.box[2]))};
 }
 
@@ -116,8 +117,8 @@ TEST(ShapeTerms, EdgeRemap) {
 }
 
 TEST(ShapeTerms, SheetFillsTheBoxAndFadesAtItsSides) {
-  // Measured: with Sheet 1 the cloud cover (fraction of columns with density) in the inner half of
-  // the box is within 0.15 of the cover at 50-65 % of the half-width (no disc); exact: nothing at
+  // Measured: with Sheet 1 the cloud cover (fraction of columns with density) in the inner 40 % of
+  // the box is within 0.15 of the cover at 40-55 % of the half-width (no disc); exact: nothing at
   // |T| >= 1 (the fade reaches 2 > max S + |F|/2 for S <= 1, F <= 2).
   cg::Params p;
   p.set(cg::SHAPE_MODE, 1.0f);
@@ -136,13 +137,13 @@ TEST(ShapeTerms, SheetFillsTheBoxAndFadesAtItsSides) {
       const vec3 q(0.5f * tx * m.box[0], 0.5f * ty * m.box[1], (float(k) + 0.5f) / 8.0f * m.box[2] - 0.5f * m.box[2]);
       column = std::max(column, cg::density(m, q));
     }
-    if (rad < 0.5f) in_n += 1, in_c += column > 0;
-    if (rad > 0.5f && rad < 0.65f) mid_n += 1, mid_c += column > 0;
+    if (rad < 0.4f) in_n += 1, in_c += column > 0;
+    if (rad > 0.4f && rad < 0.55f) mid_n += 1, mid_c += column > 0;
     if (rad >= 1.0f) ASSERT_EQ(column, 0.0f);
   }
   const double cin = double(in_c) / in_n, cmid = double(mid_c) / mid_n;
   EXPECT_GT(cin, 0.3);
-  EXPECT_NEAR(cin, cmid, 0.15) << "cover inner " << cin << " vs 50-65 % " << cmid;
+  EXPECT_NEAR(cin, cmid, 0.15) << "cover inner " << cin << " vs 40-55 % " << cmid;
 }
 
 TEST(ShapeTerms, LeanMovesTheTopDownwind) {
@@ -191,32 +192,34 @@ TEST(ShapeTerms, StretchAndShearWarpTheNoisePoint) {
       const vec3 w(q[0] / (1 + s) + k * q[2], q[1], q[2]);
       const bool identity = s == 0.0f && k == 0.0f;
       const float want = cg::noise_at(plain, identity ? q : w);
-      ASSERT_TRUE(same_bits(cg::noise_at(warped, q), want)) << "stretch " << s << " shear " << k << " at "
-                                                             << cgtest::str(q);
+      ASSERT_TRUE(same_bits(cg::noise_at(warped, q), want))
+          << "stretch " << s << " shear " << k << " at " << cgtest::str(q);
     }
   }
 }
 
 TEST(ShapeTerms, TurretsAreLargeAndKeepNInItsRange) {
-  // Exact: N in [0, 1] at Turret Influence 1 and random values; Turret Influence 1 makes N the
-  // turret octave alone, so N over a box correlates over Turret Size Worley cells: measured, the mean
-  // |N(p) - N(p + one Worley cell along x)| is less than 0.6 of that at Turret Influence 0.
-  cg::Params p = cumulus();
-  p.set(cg::TURRET_SCALE, 4.0f);
-  const cg::Model plain = cg::prepare(p);
-  p.set(cg::TURRET_INFLUENCE, 1.0f);
-  const cg::Model turrets = cg::prepare(p);
-  Rng rng(19);
-  double dp = 0, dt = 0;
-  const float cell = 1.0f / plain.worley_frequency;
-  for (int i = 0; i < 20000; ++i) {
-    const vec3 q = inside(plain, rng), r(q[0] + cell, q[1], q[2]);
-    const float nt = cg::noise_at(turrets, q);
-    ASSERT_TRUE(nt >= 0.0f && nt <= 1.0f) << nt;
-    dp += double(std::fabs(cg::noise_at(plain, q) - cg::noise_at(plain, r)));
-    dt += double(std::fabs(nt - cg::noise_at(turrets, r)));
-  }
-  EXPECT_LT(dt, 0.6 * dp) << "turret variation " << dt / 20000 << " vs billows " << dp / 20000;
+  // Exact: N in [0, 1] at Turret Influence 1 (N is then the turret octave alone). Measured: the
+  // turrets' size follows Turret Size — the mean |N(p) - N(p + one Worley cell along x)| at Turret
+  // Size 8 is below 0.6 of that at Turret Size 2 (about 1/4 expected for a 4x larger cell).
+  auto variation = [](float size) {
+    cg::Params p = cumulus();
+    p.set(cg::TURRET_INFLUENCE, 1.0f);
+    p.set(cg::TURRET_SCALE, size);
+    const cg::Model m = cg::prepare(p);
+    Rng rng(19);
+    double sum = 0;
+    const float cell = 1.0f / m.worley_frequency;
+    for (int i = 0; i < 20000; ++i) {
+      const vec3 q = inside(m, rng), r(q[0] + cell, q[1], q[2]);
+      const float a = cg::noise_at(m, q), b = cg::noise_at(m, r);
+      EXPECT_TRUE(a >= 0.0f && a <= 1.0f) << a;
+      sum += double(std::fabs(a - b));
+    }
+    return sum / 20000;
+  };
+  const double small = variation(2.0f), large = variation(8.0f);
+  EXPECT_LT(large, 0.6 * small) << "turret size 8: " << large << ", size 2: " << small;
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ CG_NAMESPACE_BEGIN
 #define CG_FLOOR_FALLOFF 500               /* the shape falls by 500 per unit of h below the base / above the top */
 #define CG_HEIGHT_LIMIT CG_FLOAT(1000.0)   /* kernel clamp of Base Height and Top Height */
 #define CG_LEAN_LIMIT CG_FLOAT(1000.0)     /* kernel clamp of Lean */
-#define CG_SHEET_MARGIN CG_FLOAT(0.3)      /* a sheet fades over the outer 30 % of its half-width */
+#define CG_SHEET_MARGIN CG_FLOAT(0.5)      /* a sheet fades over the outer half of its half-width */
 #define CG_SHEET_FALLOFF 2                 /* the sheet's fade term where |T| = 1 (the cloud's edge) */
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
