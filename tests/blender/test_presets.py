@@ -1,5 +1,5 @@
-"""The eleven cloud types (the ten WMO genera and cumulus congestus) (native/presets/clouds.json): present, in range, with
-known material settings, and each renders a visible cloud with the OSL
+"""The eleven cloud types (the ten WMO genera and cumulus congestus; native/presets/clouds.json):
+present, in range, with known material settings, and each renders a visible cloud with the OSL
 shaders in Cycles (render_cloud.py's scene at a tiny size).
 
 Tolerances are stated per test. The render check is coarse on purpose (4 spp
