@@ -29,7 +29,7 @@ DISTORTION_NOISE = "Distortion Noise"
 GROUP_OF = {"Cloud Main": MAIN_GROUP, "Cloud Noise": NOISE_GROUP, "Animation": NOISE_GROUP,
             "Box": NOISE_GROUP}
 PANEL_OF = {"Cloud Main": "Cloud Main", "Cloud Noise": "Noise", "Animation": "Animation", "Box": "Box"}
-VERSION = 1  # bump when the groups' layout changes; older groups are rebuilt
+VERSION = 2  # bump when the groups' layout changes; older groups are rebuilt
 
 
 def has_interface_panels() -> bool:

@@ -246,7 +246,9 @@ def main():
               "lens_mm": LENS_MM, "sun_w_m2": SUN_W_M2, "volume_bounces": 1,
               "machine": common.machine_info(), "load_start": loadavg(), "renders": {}}
 
-    truth_path = work / f"truth_{s}_{opts.truth_samples}.exr"
+    # keyed by the cloud's field key too: a preset change must not reuse an old truth
+    key = cn.field_key(dict(values, noise_detail=THESIS_OCTAVES))
+    truth_path = work / f"truth_{s}_{opts.truth_samples}_{key}.exr"
     if not truth_path.exists():
         scene, _ = build(values, "full", s, opts.truth_samples, opts.seed + 1000)
         result["truth_render_s"] = render_exr(scene, truth_path)

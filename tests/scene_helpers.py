@@ -19,6 +19,14 @@ def frame_cloud(scene, obj, fill=0.7):
     c = obj.matrix_world.translation
     cam.location = (c[0], c[1] - distance, c[2])
     cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    if max(bx, by) > 8.0 * bz:
+        # a layer (a sheet, tens to hundreds of units wide and thin) is a line edge-on: look down at its
+        # sunlit top instead (from below a thick one, nimbostratus, is dark in this black world), 30
+        # degrees below the horizon, the sheet's centre ahead in the frame
+        rise = 0.15 * by
+        cam.location = (c[0], c[1] - rise / math.tan(math.radians(30.0)), c[2] + rise)
+        cam.rotation_euler = (math.radians(60.0), 0.0, 0.0)
+        cam.data.clip_end = 10.0 * max(bx, by)
     scene.collection.objects.link(cam)
     scene.camera = cam
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))

@@ -65,12 +65,34 @@ Model prepare(const Params& p) {
   m.noise_detail = p.get(NOISE_DETAIL);
   m.noise_whisp = p.get(NOISE_WHISP);
   m.seed = static_cast<int>(finite_clamp(p.get(SEED), -1073741824.0f, 1073741824.0f));
+
+  m.edge_width = cg_edge_width(p.get(EDGE_SHARPNESS));
+  m.base_height = p.get(BASE_HEIGHT);
+  m.top_height = p.get(TOP_HEIGHT);
+  m.lean = p.get(LEAN);
+  m.sheet = p.get(SHEET);
+  m.stretch = p.get(STRETCH);
+  m.shear = p.get(SHEAR);
+  m.turret_influence = p.get(TURRET_INFLUENCE);
+  m.turret_frequency = cg_turret_frequency(m.worley_frequency, p.get(TURRET_SCALE));
+  m.turret_offset = cg_turret_offset(location, stationary, wind, strength, time, m.turret_frequency);
   return m;
 }
 
 Lod lod_for_footprint(const Model& m, float footprint) {
   return {cg_lod_octaves(m.worley_frequency, footprint), cg_lod_octaves(m.perlin_frequency, footprint)};
 }
+
+namespace {
+
+// Smallest value of the horizontal term cg_horizontal(t, sheet) over t in [a, b]: the term
+// grows with |t|, so it is the term at the t of smallest |t|.
+float min_horizontal(float a, float b, float sheet) {
+  const float t = (a <= 0.0f && b >= 0.0f) ? 0.0f : (std::fabs(a) < std::fabs(b) ? a : b);
+  return cg_horizontal(t, sheet);
+}
+
+}  // namespace
 
 float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
   float t_lo[3], t_hi[3];
@@ -83,11 +105,25 @@ float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
     t_lo[i] = 2.0f * (a / m.box[i]) * inv;
     t_hi[i] = 2.0f * (b / m.box[i]) * inv;
   }
-  const float h_lo = std::clamp((t_lo[2] + 1.0f) * 0.5f, 0.0f, 1.0f);
-  const float h_hi = std::clamp((t_hi[2] + 1.0f) * 0.5f, 0.0f, 1.0f);
-  const float s_max = core_max(m, h_lo, h_hi) - min_square(t_lo[0], t_hi[0]) - min_square(t_lo[1], t_hi[1]);
-  // 1e-4 absorbs the rounding differences between this bound and the kernel
-  return s_max + 0.5f * std::fabs(m.distortion) + 1e-4f;
+  // h over the region (unclamped), then the profile's height h_l = clamp(h, base, top) (monotone)
+  const float ha = (t_lo[2] + 1.0f) * 0.5f, hb = (t_hi[2] + 1.0f) * 0.5f;
+  const float base = std::clamp(m.base_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  const float top = std::clamp(m.top_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  const float hl_lo = std::clamp(std::min(std::max(ha, base), top), 0.0f, 1.0f);
+  const float hl_hi = std::clamp(std::min(std::max(hb, base), top), 0.0f, 1.0f);
+  // the floor/ceiling penalty is at least its value at the region's best end of each part
+  const float penalty = float(CG_FLOOR_FALLOFF) * (std::max(base - hb, 0.0f) + std::max(ha - top, 0.0f));
+  // lean: T_x' = T_x - lean h_c^2, h_c^2 over [hc_lo^2, hc_hi^2]
+  const float lean = std::clamp(m.lean, -CG_LEAN_LIMIT, CG_LEAN_LIMIT);
+  const float hc_lo = std::clamp(ha, 0.0f, 1.0f), hc_hi = std::clamp(hb, 0.0f, 1.0f);
+  const float s_lo = hc_lo * hc_lo, s_hi = hc_hi * hc_hi;
+  const float shift_max = std::max(lean * s_lo, lean * s_hi), shift_min = std::min(lean * s_lo, lean * s_hi);
+  const float tx_lo = t_lo[0] - shift_max, tx_hi = t_hi[0] - shift_min;
+  const float s_max = core_max(m, hl_lo, hl_hi) - penalty - min_horizontal(tx_lo, tx_hi, m.sheet) -
+                      min_horizontal(t_lo[1], t_hi[1], m.sheet);
+  // 1e-4 (relative to the largest term) absorbs the rounding differences between this bound and the kernel
+  const float scale = 1.0f + penalty + tx_lo * tx_lo + tx_hi * tx_hi + t_lo[1] * t_lo[1] + t_hi[1] * t_hi[1];
+  return s_max + 0.5f * std::fabs(m.distortion) + 1e-4f * scale;
 }
 
 }  // namespace cg

@@ -60,8 +60,12 @@ def test_bake_quality_draft_takes_the_tier_settings(out_dir):
 
 def test_explicit_options_win_over_the_tier(out_dir):
     tier = json.loads(TIERS_FILE.read_text())["draft"]["bake"]
+    # the cumulus with the thesis's linear edge (Edge Sharpness 0): its faint rim (values below the draft
+    # tolerance) is what --tolerance 0 must keep; the preset's sharp edge leaves almost none at 16 voxels
+    soft = out_dir / "soft_cumulus.json"
+    soft.write_text(json.dumps({"preset": "cumulus", "edge_sharpness": 0.0}))
     out = out_dir / "d16.vdb"
-    r = run("bake", "--preset", "cumulus", "--quality", "draft", "--resolution", 16, "--output", out, "--quiet")
+    r = run("bake", "--params", soft, "--quality", "draft", "--resolution", 16, "--output", out, "--quiet")
     assert r.returncode == 0, r.stderr
     g = grid(out)
     # --resolution wins (tolerance 1e-9 relative); half and the drop tolerance still come from the tier.
@@ -69,13 +73,13 @@ def test_explicit_options_win_over_the_tier(out_dir):
     assert g["half"] is True and g["min"] > tier["tolerance"], g
     # The same bake spelled out has the same bake key (exact string).
     out2 = out_dir / "explicit.vdb"
-    r = run("bake", "--preset", "cumulus", "--resolution", 16, "--half", "--tolerance", tier["tolerance"],
+    r = run("bake", "--params", soft, "--resolution", 16, "--half", "--tolerance", tier["tolerance"],
             "--output", out2, "--quiet")
     assert r.returncode == 0, r.stderr
     assert grid(out2)["metadata"]["cloudgen_bake_key"] == g["metadata"]["cloudgen_bake_key"]
     # --tolerance 0 wins too: the faint edge of the cumulus (values below 0.01) is kept.
     out3 = out_dir / "tol0.vdb"
-    r = run("bake", "--preset", "cumulus", "--quality", "draft", "--resolution", 16, "--tolerance", 0,
+    r = run("bake", "--params", soft, "--quality", "draft", "--resolution", 16, "--tolerance", 0,
             "--output", out3, "--quiet")
     assert r.returncode == 0, r.stderr
     g3 = grid(out3)

@@ -127,7 +127,7 @@ def test_presets_material():
         assert -1.0 <= material.get("anisotropy", 0.0) <= 1.0, (name, material)
         if "color" in material:
             assert len(material["color"]) == 3 and all(0.0 <= c <= 1.0 for c in material["color"]), name
-    assert cn.presets()["cumulus"]["material"]["anisotropy"] == 0.3
+    assert cn.presets()["cumulus"]["material"]["anisotropy"] == 0.5  # water clouds: docs/model.md section 10
 
 
 def test_preset_key_then_overrides():

@@ -46,19 +46,24 @@ inline bool inside_box(vec3 g) {
 
 // Shape term at generated coordinates g: the curve (if used) is evaluated here.
 inline float shape_at_generated(const Model& m, vec3 g) {
-  const float curve_value = m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_height(g[2], m.cloud_scale)) : 0.0f;
-  return cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value);
+  const float curve_value =
+      m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height))
+                        : 0.0f;
+  return cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value, m.base_height, m.top_height, m.lean,
+                  m.sheet);
 }
 
-// Shape term S(h) - T_x^2 - T_y^2 at a local point.
+// Shape term (S(h) - T_x^2 - T_y^2 with the shape terms) at a local point.
 inline float shape_at(const Model& m, vec3 p) { return shape_at_generated(m, generated(m, p)); }
 
 // Cloud Noise texture N in [0, 1] at a local point.
 inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
-  const vec3 pw = p * m.worley_frequency + m.worley_offset;
-  const vec3 pp = p * m.perlin_frequency + m.perlin_offset;
-  return cg_cloud_noise(pw, pp, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail,
-                        m.noise_whisp, lod.worley_octaves, lod.perlin_octaves, m.seed);
+  const vec3 q = cg_noise_warp(p, m.stretch, m.shear);
+  const vec3 pw = q * m.worley_frequency + m.worley_offset;
+  const vec3 pp = q * m.perlin_frequency + m.perlin_offset;
+  const vec3 pt = cg_turret_point(q, m.turret_frequency, m.turret_offset);
+  return cg_cloud_noise(pw, pp, pt, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail,
+                        m.noise_whisp, m.turret_influence, lod.worley_octaves, lod.perlin_octaves, m.seed);
 }
 
 // Density at a local point: 0 outside the box and wherever the shape proves
@@ -68,7 +73,7 @@ inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   if (!inside_box(g)) return 0.0f;
   const float s = shape_at_generated(m, g);
   if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
-  return cg_cloud_main(s, noise_at(m, p, lod), m.distortion, m.density);
+  return cg_cloud_main(s, noise_at(m, p, lod), m.distortion, m.density, m.edge_width);
 }
 
 // An upper bound of the unscaled density (shape + |F|/2) over the axis-aligned

@@ -37,4 +37,14 @@ CG_MODEL_FIELD(float, noise_influence, Always)
 CG_MODEL_FIELD(float, noise_detail, Always)
 CG_MODEL_FIELD(float, noise_whisp, Always)
 CG_MODEL_FIELD(int, seed, Always)
+CG_MODEL_FIELD(float, edge_width, Always)                        // cg_edge_width(Edge Sharpness), in (0, 1]
+CG_MODEL_FIELD(float, base_height, Always)                       // flat floor and ceiling, in h
+CG_MODEL_FIELD(float, top_height, Always)
+CG_MODEL_FIELD(float, lean, Always)
+CG_MODEL_FIELD(float, sheet, Always)
+CG_MODEL_FIELD(float, stretch, Always)                           // noise warp
+CG_MODEL_FIELD(float, shear, Always)
+CG_MODEL_FIELD(float, turret_influence, Always)
+CG_MODEL_FIELD(float, turret_frequency, Always)                  // turret cells per scene unit (x, y)
+CG_MODEL_FIELD(vec3, turret_offset, Always)                      // wrapped, in turret lattice units
 // clang-format on

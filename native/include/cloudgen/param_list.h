@@ -39,6 +39,21 @@ CG_PARAM(SHAPE_EXPONENT, "shape_exponent", "Shape Exponent", "Cloud Main", Float
 CG_PARAM(SHAPE_CURVE, "shape_curve", "Shape Gradient", "Cloud Main", Curve, (0), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
          "squared radius",
          "Height profile as 17 samples at heights 0, 1/16, ..., 1 (used when Shape Source is 1).")
+CG_PARAM(EDGE_SHARPNESS, "edge_sharpness", "Edge Sharpness", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f,
+         0, 1, "", "How fast the density rises at the cloud's boundary: 0 the thesis's soft ramp, 1 a crisp edge "
+         "(wisps only where the noise erodes).")
+CG_PARAM(BASE_HEIGHT, "base_height", "Base Height", "Cloud Main", Float, (-0.5f), -0.5f, 1.0f, -0.5f, 1.0f, 0, 1,
+         "fraction of the cloud's height",
+         "Flat floor: no cloud below this height, the profile held at its value here (a flat condensation base); "
+         "-0.5 none.")
+CG_PARAM(TOP_HEIGHT, "top_height", "Top Height", "Cloud Main", Float, (1.5f), 0.0f, 1.5f, 0.0f, 1.5f, 0, 1,
+         "fraction of the cloud's height",
+         "Flat ceiling: no cloud above this height, the profile held at its value here (an anvil's top); 1.5 none.")
+CG_PARAM(LEAN, "lean", "Lean", "Cloud Main", Float, (0.0f), -2.0f, 2.0f, -1.0f, 1.0f, 0, 1, "fraction of the width",
+         "Shifts the shape along +x with the square of the height: the top leans downwind by this much.")
+CG_PARAM(SHEET, "sheet", "Sheet", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1, "",
+         "1 makes a layer: no round outline, the sheet fills the box and fades out near its sides; 0 a single "
+         "cloud.")
 CG_PARAM(OVERALL_SCALE, "overall_scale", "Overall Scale", "Cloud Noise", Float, (1.0f), 0.01f, 20.0f, 0.1f, 4.0f,
          0, 1, "", "Scales the whole texture: larger values give smaller, more numerous features.")
 CG_PARAM(WORLEY_INFLUENCE, "worley_influence", "Worley Influence", "Cloud Noise", Float, (0.8f), 0.0f, 1.0f, 0.0f,
@@ -55,6 +70,14 @@ CG_PARAM(NOISE_DETAIL, "noise_detail", "Noise Detail", "Cloud Noise", Float, (5.
          "octaves", "Octaves of the gradient-noise fBm; a fractional part fades the last octave in.")
 CG_PARAM(NOISE_WHISP, "noise_whisp", "Noise Whisp", "Cloud Noise", Float, (0.5f), 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
          "gain", "Gain of the gradient-noise fBm: higher values give wispier, finer detail.")
+CG_PARAM(TURRET_INFLUENCE, "turret_influence", "Turret Influence", "Cloud Noise", Float, (0.0f), 0.0f, 1.0f, 0.0f,
+         1.0f, 0, 1, "", "Weight of large Worley turrets under the billows (towers, big lobes).")
+CG_PARAM(TURRET_SCALE, "turret_scale", "Turret Size", "Cloud Noise", Float, (3.0f), 1.0f, 16.0f, 1.0f, 8.0f, 0, 1,
+         "Worley cells", "Size of a turret in Worley cells (turret cells are twice as tall as wide).")
+CG_PARAM(STRETCH, "stretch", "Stretch", "Cloud Noise", Float, (0.0f), 0.0f, 50.0f, 0.0f, 20.0f, 0, 1, "",
+         "Stretches the texture along the box's x axis by 1 + this: fibres and streaks.")
+CG_PARAM(SHEAR, "shear", "Shear", "Cloud Noise", Float, (0.0f), -10.0f, 10.0f, -2.0f, 2.0f, 0, 1,
+         "x shift per unit of height", "Slants the texture along x with height: fall streaks, hooks, sheared tops.")
 CG_PARAM(SEED, "seed", "Seed", "Cloud Noise", Int, (0), 0, 1000000, 0, 1000, 0, 1,
          "", "Variation: a different seed gives a different cloud of the same kind.")
 CG_PARAM(WIND_STRENGTH, "wind_strength", "Wind Strength", "Animation", Float, (0.0f), 0.0f, 100.0f, 0.0f, 1.0f, 0, 1,

@@ -124,7 +124,7 @@ struct Scratch {
 struct alignas(64) Lanes {
   float x[kChunk], y[kChunk], z[kChunk];  // the point, local frame
   float a[kChunk], b[kChunk], c[kChunk];  // the point in one noise's lattice units
-  float shape[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], sum[kChunk];
+  float shape[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], turret[kChunk], sum[kChunk];
   int index[kChunk];  // position of lane i in the caller's arrays
   Scratch scratch;
 };
@@ -191,8 +191,11 @@ int shape_stage(const Model& m, const vec3* points, int count, std::size_t first
     const vec3 g(p[0] / m.box[0] + 0.5f, p[1] / m.box[1] + 0.5f, p[2] / m.box[2] + 0.5f);
     out[q] = 0.0f;
     if (!(g[0] >= 0.0f && g[0] <= 1.0f && g[1] >= 0.0f && g[1] <= 1.0f && g[2] >= 0.0f && g[2] <= 1.0f)) continue;
-    const float curve_value = m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_height(g[2], m.cloud_scale)) : 0.0f;
-    const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value);
+    const float curve_value =
+        m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height))
+                          : 0.0f;
+    const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value, m.base_height, m.top_height,
+                             m.lean, m.sheet);
     if (cg_shape_proves_empty(s, m.distortion)) continue;
     L.x[n] = p[0];
     L.y[n] = p[1];
@@ -212,9 +215,17 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
     L.y[i] = L.y[n - 1];
     L.z[i] = L.z[n - 1];
   }
+  // cg_noise_warp: the point the noise is read at (the lanes' x, y, z are not needed after this)
+  for (int i = 0; i < padded; ++i) {
+    const vec3 q = cg_noise_warp(vec3(L.x[i], L.y[i], L.z[i]), m.stretch, m.shear);
+    L.x[i] = q[0];
+    L.y[i] = q[1];
+    L.z[i] = q[2];
+  }
   const float wi = clamp(m.worley_influence, 0, 1);
   const float wv = clamp(m.wave, 0, 1);
   const float ni = clamp(m.noise_influence, 0, 1);
+  const float ti = clamp(m.turret_influence, 0, 1);
   for (int i = 0; i < padded; ++i) L.perlin[i] = 0.0f;
   if (cg_noise_uses_perlin(wi, wv, ni)) {
     to_lattice(L, padded, m.perlin_frequency, m.perlin_offset);
@@ -229,10 +240,23 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
   for (int i = 0; i < padded; ++i) L.sine[i] = 0.5f;
   if (cg_noise_uses_sine(wi, wv))
     for (int i = 0; i < n; ++i) L.sine[i] = cg_wave_sine(L.a[i], L.perlin[i]);
+  if (ti > 0.0f) {
+    // cg_turret: one Worley octave on the turret lattice, through the table when the cells allow it
+    for (int i = 0; i < padded; ++i) {
+      const vec3 t = cg_turret_point(vec3(L.x[i], L.y[i], L.z[i]), m.turret_frequency, m.turret_offset);
+      L.a[i] = t[0];
+      L.b[i] = t[1];
+      L.c[i] = t[2];
+    }
+    const int tseed = m.seed ^ CG_SEED_SALT_TURRET;
+    if (!worley_octave_table(padded, L.a, L.b, L.c, 1.0f, 0.0f, tseed, L.scratch.cells, L.turret))
+      for (int i = 0; i < padded; ++i) L.turret[i] = cg_turret(vec3(L.a[i], L.b[i], L.c[i]), m.seed);
+  }
 #pragma omp simd
   for (int i = 0; i < padded; ++i) {
-    const float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni);
-    L.sum[i] = cg_cloud_main(L.shape[i], noise, m.distortion, m.density);
+    float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni);
+    if (ti > 0.0f) noise = cg_turret_mix(noise, L.turret[i], ti);
+    L.sum[i] = cg_cloud_main(L.shape[i], noise, m.distortion, m.density, m.edge_width);
   }
   for (int i = 0; i < n; ++i) out[L.index[i]] = L.sum[i];
 }

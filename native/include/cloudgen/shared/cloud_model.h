@@ -38,6 +38,19 @@ CG_NAMESPACE_BEGIN
 #define CG_EXPONENT_MAX CG_FLOAT(100.0)
 #define CG_NOISE_SCALE_MIN CG_FLOAT(0.0001) /* Overall Scale and Noise Scale */
 #define CG_NOISE_SCALE_MAX CG_FLOAT(10000.0)
+/* Shape terms beyond the thesis (docs/model.md, "Shape terms"). */
+#define CG_EDGE_WIDTH_MIN CG_FLOAT(0.08)   /* edge width at Edge Sharpness 1, in units of the raw density */
+#define CG_FLOOR_FALLOFF 500               /* the shape falls by 500 per unit of h below the base / above the top */
+#define CG_HEIGHT_LIMIT CG_FLOAT(1000.0)   /* kernel clamp of Base Height and Top Height */
+#define CG_LEAN_LIMIT CG_FLOAT(1000.0)     /* kernel clamp of Lean */
+#define CG_SHEET_MARGIN CG_FLOAT(0.5)      /* a sheet fades over the outer half of its half-width */
+#define CG_SHEET_FALLOFF 2                 /* the sheet's fade term where |T| = 1 (the cloud's edge) */
+#define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
+#define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
+#define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
+#define CG_TURRET_SCALE_MAX CG_FLOAT(10000.0)
+#define CG_TURRET_ASPECT CG_FLOAT(0.5) /* turret cells are 1 / 0.5 = 2 times taller than wide */
+#define CG_SEED_SALT_TURRET 374761393
 
 /* ---------------------------------------------------------------- shape --- */
 
@@ -77,22 +90,81 @@ CG_FN float cg_profile(float h, int mode, float exponent, float curve_value) {
   return core - CG_PROFILE_FALLOFF * out * out;
 }
 
-/* Shape term of eq. 3.4: S(h) - T_x^2 - T_y^2 with T = (2G - 1) / cloud_scale. */
-CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value) {
+/* The height at which the profile is read: h held inside [base, top] (the flat
+ * floor and ceiling; with the defaults -0.5 and 1.5 every point of the cloud
+ * has h inside, so this is h). The Shape Gradient curve is evaluated here too. */
+CG_FN float cg_shape_height(float gz, float cloud_scale, float base_height, float top_height) {
+  float b = clamp(base_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  float t = clamp(top_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  return clamp(cg_height(gz, cloud_scale), b, t);
+}
+
+/* Below the base and above the top the shape falls linearly and steeply
+ * (CG_FLOOR_FALLOFF per unit of h): a flat floor / ceiling that the profile
+ * and the noise (S + |F|/2, at most 2 in the declared ranges) push through by
+ * at most 2 / 500 = 0.4 % of the cloud's height. */
+CG_FN float cg_floor_penalty(float h, float base_height, float top_height) {
+  float b = clamp(base_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  float t = clamp(top_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT);
+  return CG_FLOOR_FALLOFF * (max(b - h, 0) + max(h - t, 0));
+}
+
+/* Horizontal term of one axis: T^2 for a body of revolution (Sheet 0); for a
+ * sheet (Sheet 1) 0 in the middle and a fade over the outer CG_SHEET_MARGIN
+ * of the half-width, CG_SHEET_FALLOFF at |T| = 1; in between a blend. Both
+ * parts grow with |T|. */
+CG_FN float cg_horizontal(float t, float sheet) {
+  float k = clamp(sheet, 0, 1);
+  if (k > 0) {
+    float e = max(fabs(t) - (1 - CG_SHEET_MARGIN), 0) / CG_SHEET_MARGIN;
+    return (1 - k) * (t * t) + k * (CG_SHEET_FALLOFF * (e * e));
+  }
+  return t * t;
+}
+
+/* The x shape coordinate leaned downwind (+x) with height: T_x - lean h_c^2. */
+CG_FN float cg_lean_x(float tx, float h, float lean) {
+  float hc = clamp(h, 0, 1);
+  return tx - clamp(lean, -CG_LEAN_LIMIT, CG_LEAN_LIMIT) * (hc * hc);
+}
+
+/* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(T_x') - H(T_y)
+ * with T = (2G - 1) / cloud_scale, h_l = cg_shape_height, T_x' leaned. At the
+ * defaults (base -0.5, top 1.5, lean 0, sheet 0) this is S(h) - T_x^2 - T_y^2
+ * bit for bit wherever the density can be > 0. `curve_value` is the curve at
+ * clamp(h_l, 0, 1) (mode 1). */
+CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value, float base_height,
+                     float top_height, float lean, float sheet) {
   float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
-  float tx = (2 * g[0] - 1) * inv;
+  float h = cg_height(g[2], cloud_scale);
+  float tx = cg_lean_x((2 * g[0] - 1) * inv, h, lean);
   float ty = (2 * g[1] - 1) * inv;
-  return cg_profile(cg_height(g[2], cloud_scale), mode, exponent, curve_value) - tx * tx - ty * ty;
+  float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
+  float s = cg_profile(hl, mode, exponent, curve_value) - cg_floor_penalty(h, base_height, top_height);
+  return s - cg_horizontal(tx, sheet) - cg_horizontal(ty, sheet);
 }
 
 /* The distortion term F (1 - O) with O = N + 1/2 lies in [-|F|/2, |F|/2]; where
  * the shape alone is at most -|F|/2 the density is provably 0. */
 CG_FN int cg_shape_proves_empty(float shape, float distortion) { return shape + fabs(distortion) / 2 <= 0; }
 
-/* Cloud Main, eq. 3.4 with O = N + 1/2: D = S - T_x^2 - T_y^2 + F (1/2 - N),
- * clamped at 0 and scaled by the density multiplier (>= 0). */
-CG_FN float cg_cloud_main(float shape, float noise, float distortion, float density) {
-  return max(shape + distortion * (CG_FLOAT(0.5) - noise), 0) * max(density, 0);
+/* Edge Sharpness s in [0, 1] as the edge width w = 0.08^s (1 at s = 0). The smallest width, 0.08,
+ * is 1-2 % of a cloud's size and keeps the slope 1/w (which multiplies any rounding difference of
+ * r between OSL and C++, measured up to 6e-6) at 12.5: the parity of 1e-4 of the range holds. */
+CG_FN float cg_edge_width(float edge_sharpness) { return pow(CG_EDGE_WIDTH_MIN, clamp(edge_sharpness, 0, 1)); }
+
+/* The sharp boundary: the raw value r >= 0 of eq. 3.4 remapped to
+ * min(r / w, max(r, 1)) — it reaches 1 (a cloud's core) within r = w instead
+ * of r = 1, and keeps r above 1. w = 1 gives r exactly (the thesis's ramp). */
+CG_FN float cg_edge(float r, float edge_width) {
+  float w = clamp(edge_width, CG_EDGE_WIDTH_MIN, 1);
+  return min(r / w, max(r, 1));
+}
+
+/* Cloud Main, eq. 3.4 with O = N + 1/2: D = E(max(S - T_x^2 - T_y^2 + F (1/2 - N), 0)) * density,
+ * E the edge remap (identity at edge width 1), density clamped at 0. */
+CG_FN float cg_cloud_main(float shape, float noise, float distortion, float density, float edge_width) {
+  return cg_edge(max(shape + distortion * (CG_FLOAT(0.5) - noise), 0), edge_width) * max(density, 0);
 }
 
 /* ------------------------------------------------------------ frequencies --- */
@@ -171,19 +243,57 @@ CG_FN float cg_cloud_noise_combine(float p, float worley, float sine, float wi, 
   return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * p, ni), 0, 1);
 }
 
+/* The point the noise is read at: x stretched by 1 + Stretch (features that
+ * long along the box's x axis) and sheared by Shear x z (features slanted
+ * downwind with height: fall streaks, anvils). The identity at 0 and 0. */
+CG_FN CG_VEC3 cg_noise_warp(CG_VEC3 p, float stretch, float shear) {
+  float st = clamp(stretch, 0, CG_STRETCH_MAX);
+  float sh = clamp(shear, -CG_SHEAR_LIMIT, CG_SHEAR_LIMIT);
+  if (st > 0 || sh != 0) return CG_VEC3(p[0] / (1 + st) + sh * p[2], p[1], p[2]);
+  return p;
+}
+
+/* Turret lattice cells per scene unit (horizontally): Turret Size Worley cells per turret. */
+CG_FN float cg_turret_frequency(float worley_frequency, float turret_scale) {
+  return worley_frequency / clamp(turret_scale, CG_TURRET_SCALE_MIN, CG_TURRET_SCALE_MAX);
+}
+
+/* Offset of the turret lattice (x, y at frequency ft, z at ft x CG_TURRET_ASPECT). */
+CG_FN CG_VEC3 cg_turret_offset(CG_VEC3 location, float stationary, CG_VEC3 wind_direction, float wind_strength,
+                               float time, float ft) {
+  CG_VEC3 a = cg_noise_offset(location, stationary, wind_direction, wind_strength, time, ft);
+  CG_VEC3 b = cg_noise_offset(location, stationary, wind_direction, wind_strength, time, ft * CG_TURRET_ASPECT);
+  return CG_VEC3(a[0], a[1], b[2]);
+}
+
+/* A (warped) point in turret lattice units: cells CG_TURRET_ASPECT^-1 times taller than wide. */
+CG_FN CG_VEC3 cg_turret_point(CG_VEC3 q, float ft, CG_VEC3 offset) {
+  return CG_VEC3(q[0] * ft + offset[0], q[1] * ft + offset[1], q[2] * (ft * CG_TURRET_ASPECT) + offset[2]);
+}
+
+/* The turret term: one Worley billow octave in [0, 1] (small near a turret's centre). */
+CG_FN float cg_turret(CG_VEC3 pt, int seed) {
+  return smoothstep(0, 1, cg_worley_f1(pt[0], pt[1], pt[2], seed ^ CG_SEED_SALT_TURRET));
+}
+
+/* N with the turrets mixed in (weight ti in [0, 1]): still in [0, 1]. */
+CG_FN float cg_turret_mix(float n, float turret, float ti) { return clamp(mix(n, turret, ti), 0, 1); }
+
 /* Cloud Noise (thesis 3.3): the distortion texture N in [0, 1], neutral 1/2.
  *   P  = gradient-noise fBm in [-1,1] (Noise Detail octaves, gain Noise Whisp)
  *   W  = Worley-billow fBm in [0,1] (2 octaves, gain Worley Clump)
  *   Sw = 1/2 + 1/2 sin(2 pi (f_wave x_w + warp P))          (sine texture)
- *   N  = clamp(mix(1/2, mix(W, Sw, Wave), Worley Influence)
+ *   N0 = clamp(mix(1/2, mix(W, Sw, Wave), Worley Influence)
  *              * mix(1, 1 + 2 contrast P, Noise Influence), 0, 1)   (Perlin–Worley)
- * pw and pp are the points in Worley and gradient-noise lattice units. */
-CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influence, float worley_clump, float wave,
-                           float noise_influence, float noise_detail, float noise_whisp, float lod_worley_octaves,
-                           float lod_perlin_octaves, int seed) {
+ *   N  = clamp(mix(N0, W_T, Turret Influence), 0, 1)    (W_T: one large Worley octave)
+ * pw, pp and pt are the (warped) point in Worley, gradient-noise and turret lattice units. */
+CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, CG_VEC3 pt, float w4, float worley_influence, float worley_clump,
+                           float wave, float noise_influence, float noise_detail, float noise_whisp,
+                           float turret_influence, float lod_worley_octaves, float lod_perlin_octaves, int seed) {
   float wi = clamp(worley_influence, 0, 1);
   float wv = clamp(wave, 0, 1);
   float ni = clamp(noise_influence, 0, 1);
+  float ti = clamp(turret_influence, 0, 1);
   float p = 0;
   if (cg_noise_uses_perlin(wi, wv, ni)) p = cg_perlin_fbm(pp, w4, noise_detail, lod_perlin_octaves, noise_whisp, seed);
   float worley = CG_FLOAT(0.5);
@@ -191,7 +301,9 @@ CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, float w4, float worley_influe
     worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump, seed ^ CG_SEED_SALT_WORLEY);
   float sine = CG_FLOAT(0.5);
   if (cg_noise_uses_sine(wi, wv)) sine = cg_wave_sine(pw[0], p);
-  return cg_cloud_noise_combine(p, worley, sine, wi, wv, ni);
+  float n = cg_cloud_noise_combine(p, worley, sine, wi, wv, ni);
+  if (ti > 0) n = cg_turret_mix(n, cg_turret(pt, seed), ti);
+  return n;
 }
 
 CG_NAMESPACE_END
