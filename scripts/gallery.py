@@ -1,7 +1,7 @@
 """Render the gallery: every cloud type in a landscape, from the ground, under the add-on's
 daylight (addon/sky_light.py), as a photograph would frame it.
 
-Usage: .venv/bin/python scripts/gallery.py --out docs/gallery [--size 640x360] [--samples 32]
+Usage: .venv/bin/python scripts/gallery.py --out docs/gallery [--size 640x360] [--samples 16]
        [--types cumulus,stratus,...] [--shots side-low,below-high,...] [--resolution 192]
        [--names FILE.json]
 
@@ -21,7 +21,7 @@ and suns: low (12°, 120° from the view: side-lit from behind the camera), high
 The scene: the Nishita sky, the matched sun lamp, AgX, a dull ground plane to the horizon,
 32 volume bounces, OpenImageDenoise where Blender has it. Files are numbered in a shuffled
 order (NN.png, no type in the name) so a reviewer sees no hint; the key is written to
---names (default OUT/key.json). 1 scene unit is read as 100 m for the altitudes below.
+--names (default OUT/key.json). 1 scene unit is read as 250 m for the altitudes below.
 """
 import argparse
 import json
@@ -37,11 +37,13 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "osl"))
 
-# cloud base above the ground, scene units (1 unit ~ 100 m), by type: WMO base heights
-BASE_ALTITUDE = {"stratus": 4.0, "nimbostratus": 8.0, "stratocumulus": 10.0, "altocumulus": 30.0,
-                 "altostratus": 35.0, "cirrocumulus": 60.0, "cirrus": 70.0, "cirrostratus": 70.0}
+# cloud base above the ground, scene units (1 unit ~ 250 m: the cumulus preset is 1 km wide), by
+# type: typical WMO base heights
+BASE_ALTITUDE = {"stratus": 2.0, "nimbostratus": 4.0, "stratocumulus": 5.0, "altocumulus": 12.0,
+                 "altostratus": 14.0, "cirrocumulus": 26.0, "cirrus": 30.0, "cirrostratus": 32.0}
 SUNS = {"low": (12.0, 120.0), "high": (60.0, 150.0)}
 LAYER_RATIO = 0.3
+FAR_EDGE_DEG = 6.0  # a layer's box is widened until its far edge is this low above the horizon
 EYE = 0.017  # eye height, scene units (1.7 m)
 
 
@@ -49,12 +51,12 @@ def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", required=True)
     ap.add_argument("--size", default="640x360")
-    ap.add_argument("--samples", type=int, default=32)
+    ap.add_argument("--samples", type=int, default=16, help="samples per pixel (denoised; default 16)")
     ap.add_argument("--types", default="", help="comma-separated presets (default: all)")
     ap.add_argument("--shots", default="side-low,below-high",
                     help="comma-separated VIEW-SUN (default side-low,below-high)")
     ap.add_argument("--resolution", type=int, default=192, help="voxels along a compact cloud's longest side")
-    ap.add_argument("--layer-resolution", type=int, default=1024, help="voxels along a layer's longest side")
+    ap.add_argument("--layer-resolution", type=int, default=2048, help="voxels along a layer's longest side")
     ap.add_argument("--names", default=None, help="where the key (file -> type, shot) goes")
     ap.add_argument("--seed", type=int, default=13, help="shuffle of the file numbers")
     return ap.parse_args(argv)
@@ -75,8 +77,8 @@ def place(box, view, lens, width, height, name):
     if is_layer(box):
         base = BASE_ALTITUDE.get(name, 10.0)
         centre = Vector((0.0, 0.0, base + bz / 2))
-        if view == "below":
-            return centre, Vector((0.0, 0.0, EYE)), 55.0
+        if view == "below":  # under the middle, looking at a point a quarter of the box ahead
+            return centre, Vector((0.0, 0.0, EYE)), max(55.0, math.degrees(math.atan2(base, 0.25 * by)))
         # under the near part of the layer, looking along it toward the horizon
         pitch = math.degrees(math.atan(0.55 * tan_y))  # horizon at ~22 % from the bottom
         return centre, Vector((0.0, -0.4 * by, EYE)), pitch
@@ -92,6 +94,20 @@ def place(box, view, lens, width, height, name):
         rise = math.degrees(math.atan2(centre.z - EYE, centre.y - cam.y))
         return centre, cam, rise
     return centre, Vector((0.0, 0.0, EYE)), pitch
+
+
+def widened(name, values):
+    """A layer's parameters with its box widened (never narrowed) so that, seen from under its
+    near part, its far edge lies FAR_EDGE_DEG above the horizon: a sheet that runs toward the
+    horizon, not a patch overhead. The noise is in scene units, so the texture keeps its scale
+    (only more of it); the sheet's fade grows with the box."""
+    box = list(values.get("box_size", [2, 2, 2]))
+    if not is_layer(box):
+        return values
+    need = BASE_ALTITUDE.get(name, 10.0) / (0.9 * math.tan(math.radians(FAR_EDGE_DEG)))
+    if max(box[0], box[1]) >= need:
+        return values
+    return dict(values, box_size=[max(box[0], need), max(box[1], need), box[2]])
 
 
 def bake(name, values, box, out_vdb, args):
@@ -110,7 +126,7 @@ def shot(name, view, sun, vdb, out_png, args):
 
     ra = render_cloud.parse_args(["--preset", name, "--output", out_png, "--size", args.size,
                                   "--samples", str(args.samples), "--vdb", vdb])
-    values = render_cloud.resolve_params(ra)
+    values = widened(name, render_cloud.resolve_params(ra))
     scene = render_cloud.build_scene(values, ra)  # the sky light, the material, the VDB object
     w, h = (int(v) for v in args.size.lower().split("x"))
     lens = 24.0 if view == "below" else 35.0
@@ -158,8 +174,8 @@ def main(argv=None):
         for (name, view, sun), number in zip(jobs, numbers):
             if name not in baked:
                 baked[name] = os.path.join(work, f"{name}.vdb")
-                params = dict(presets[name]["params"])
-                bake(name, params, params.get("box_size", [2, 2, 2]), baked[name], args)
+                params = widened(name, dict(cn.defaults(), **presets[name]["params"]))
+                bake(name, params, params["box_size"], baked[name], args)
             png = out / f"{number:02d}.png"
             seconds = shot(name, view, sun, baked[name], str(png), args)
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
