@@ -116,8 +116,97 @@ bool worley_octave_table(int n, const float* x, const float* y, const float* z, 
   return true;
 }
 
+// ---- Gradient-noise octave through a table of corner gradients ----------------------------------------
+// cg_perlin4 hashes the 16 corners of every point's 4D lattice cell (30 cg_mix32 per point and octave).
+// The 4th coordinate is uniform over a call (its 2 lattice values are shared), and at the low octaves
+// the points of a tile or a row lie in a few cells per axis: then the gradient index (hash & 31) of
+// every corner of those cells is hashed once into a table (the hash chain of cg_perlin4: w, then z,
+// y, x) and each lane reads its 16. The gradients, interpolations and clamp are cg_perlin4's
+// expressions on the same values in the same order: bit for bit cg_perlin4.
+constexpr int kGradMaxCorners = 512;  // largest table (corners per w value) the kernel builds
+
+struct GradTable {
+  int j[2 * kGradMaxCorners];
+};
+
+// Interpolation along x of one lattice edge whose corners have gradient indices j0, j1 (cg_perlin4_x).
+[[gnu::always_inline]] inline float grad_edge(int j0, int j1, float dx, float dy, float dz, float dw, float ux) {
+  return mix(cg_grad4(j0, dx, dy, dz, dw), cg_grad4(j1, dx - 1, dy, dz, dw), ux);
+}
+
+// The 8 corners of one w value of a cell whose first corner is table entry b (cg_perlin4_xyz).
+[[gnu::always_inline]] inline float grad_cube(const int* J, int b, int oy, int oz, float dx, float dy, float dz, float dw, float ux, float uy,
+                       float uz) {
+  const float a = mix(grad_edge(J[b], J[b + 1], dx, dy, dz, dw, ux),
+                      grad_edge(J[b + oy], J[b + oy + 1], dx, dy - 1, dz, dw, ux), uy);
+  const float c = mix(grad_edge(J[b + oz], J[b + oz + 1], dx, dy, dz - 1, dw, ux),
+                      grad_edge(J[b + oz + oy], J[b + oz + oy + 1], dx, dy - 1, dz - 1, dw, ux), uy);
+  return mix(a, c, uz);
+}
+
+// cg_perlin4(x * freq + s, y * freq + s, z * freq + s, w + s, seed) of n lanes — the gradient term of
+// cg_fbm_sample — into `out`. False (nothing written) when the cells span too much for the table to pay.
+bool gradient_octave_table(int n, const float* x, const float* y, const float* z, float w, float freq, float s,
+                           int seed, WorleyCells& C, GradTable& T, float* out) {
+  for (int i = 0; i < n; ++i) {
+    const float wx = cg_wrap(x[i] * freq + s), wy = cg_wrap(y[i] * freq + s), wz = cg_wrap(z[i] * freq + s);
+    const float fx = floor(wx), fy = floor(wy), fz = floor(wz);
+    C.cx[i] = int(fx);
+    C.cy[i] = int(fy);
+    C.cz[i] = int(fz);
+    C.dx[i] = wx - fx;
+    C.dy[i] = wy - fy;
+    C.dz[i] = wz - fz;
+  }
+  int lo[3] = {1 << 30, 1 << 30, 1 << 30}, hi[3] = {-(1 << 30), -(1 << 30), -(1 << 30)};
+  for (int i = 0; i < n; ++i) {
+    lo[0] = C.cx[i] < lo[0] ? C.cx[i] : lo[0];
+    hi[0] = C.cx[i] > hi[0] ? C.cx[i] : hi[0];
+    lo[1] = C.cy[i] < lo[1] ? C.cy[i] : lo[1];
+    hi[1] = C.cy[i] > hi[1] ? C.cy[i] : hi[1];
+    lo[2] = C.cz[i] < lo[2] ? C.cz[i] : lo[2];
+    hi[2] = C.cz[i] > hi[2] ? C.cz[i] : hi[2];
+  }
+  // corners lo .. hi + 1 per axis; the table pays when it hashes well under the lanes' 16 corners each
+  const long sx = long(hi[0]) - lo[0] + 2, sy = long(hi[1]) - lo[1] + 2, sz = long(hi[2]) - lo[2] + 2;
+  if (sx > kGradMaxCorners || sy > kGradMaxCorners || sz > kGradMaxCorners) return false;
+  const long corners = sx * sy * sz;
+  if (corners > kGradMaxCorners || corners > 4L * n) return false;
+  // cg_perlin4's 4th coordinate, uniform over the lanes
+  const float ww = cg_wrap(w + s);
+  const float fw = floor(ww);
+  const int iw0 = int(fw) & CG_PERIOD_MASK;
+  const int iw1 = (iw0 + 1) & CG_PERIOD_MASK;
+  const float dw = ww - fw;
+  const float uw = cg_fade(dw);
+  const int hw[2] = {cg_mix32(iw0 ^ seed), cg_mix32(iw1 ^ seed)};
+  for (int v = 0; v < 2; ++v)
+    for (int c = 0; c < sz; ++c) {
+      const int hz = cg_mix32(((lo[2] + c) & CG_PERIOD_MASK) ^ hw[v]);
+      for (int b = 0; b < sy; ++b) {
+        const int hy = cg_mix32(((lo[1] + b) & CG_PERIOD_MASK) ^ hz);
+        int* row = T.j + ((v * sz + c) * sy + b) * sx;
+        for (int a = 0; a < sx; ++a) row[a] = cg_mix32(((lo[0] + a) & CG_PERIOD_MASK) ^ hy) & 31;
+      }
+    }
+  const int oy = int(sx), oz = int(sx * sy), ow = int(corners);
+  const int* J = T.j;
+  const float dw1 = dw - 1;
+#pragma omp simd
+  for (int q = 0; q < n; ++q) {
+    const int b = ((C.cz[q] - lo[2]) * int(sy) + (C.cy[q] - lo[1])) * int(sx) + (C.cx[q] - lo[0]);
+    const float dx = C.dx[q], dy = C.dy[q], dz = C.dz[q];
+    const float ux = cg_fade(dx), uy = cg_fade(dy), uz = cg_fade(dz);
+    const float n0 = grad_cube(J, b, oy, oz, dx, dy, dz, dw, ux, uy, uz);
+    const float n1 = grad_cube(J, b + ow, oy, oz, dx, dy, dz, dw1, ux, uy, uz);
+    out[q] = clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
+  }
+  return true;
+}
+
 struct Scratch {
   WorleyCells cells;
+  GradTable grad;
   float sample[kChunk];
 };
 
@@ -158,6 +247,11 @@ void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, 
           for (int i = 0; i < n; ++i)
             sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_WORLEY, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
         }
+      } else if (gradient_octave_table(n, x, y, z, w, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k), scratch.cells,
+                                       scratch.grad, scratch.sample)) {
+        // cg_fbm_sample's gradient branch through the corner table
+#pragma omp simd
+        for (int i = 0; i < n; ++i) sum[i] += aw * mix(mean, scratch.sample[i], t);
       } else {
 #pragma omp simd
         for (int i = 0; i < n; ++i)
