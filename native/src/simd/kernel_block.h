@@ -51,6 +51,27 @@ struct WorleyCells {
   float dx[kChunk], dy[kChunk], dz[kChunk];
 };
 
+// The 27-cell search of cg_worley_f1_full for n lanes whose own cell is table entry base(q).
+template <class Base>
+[[gnu::always_inline]] inline void worley_lanes(int n, const WorleyTable& T, const WorleyCells& C, const int* offset,
+                                                Base base, float* out) {
+#pragma omp simd
+  for (int q = 0; q < n; ++q) {
+    const int b = base(q);
+    float best = 16;
+    for (int k = -1; k <= 1; k += 1)
+      for (int j = -1; j <= 1; j += 1)
+        for (int i = -1; i <= 1; i += 1) {
+          const int t = b + offset[((k + 1) * 3 + (j + 1)) * 3 + (i + 1)];
+          const float ox = i + T.fx[t] - C.dx[q];
+          const float oy = j + T.fy[t] - C.dy[q];
+          const float oz = k + T.fz[t] - C.dz[q];
+          best = min(best, ox * ox + oy * oy + oz * oz);
+        }
+    out[q] = smoothstep(0, 1, min(sqrt(best), CG_WORLEY_F1_CAP));
+  }
+}
+
 // smoothstep(0, 1, cg_worley_f1(...)) of n lanes at lattice points (x, y, z) * freq + s with octave seed
 // `seed` — the Worley term of cg_fbm_sample — into `out`. False (nothing written) when the cells span
 // too much for the table.
@@ -98,21 +119,13 @@ bool worley_octave_table(int n, const float* x, const float* y, const float* z, 
   for (int k = -1, c = 0; k <= 1; k += 1)
     for (int j = -1; j <= 1; j += 1)
       for (int i = -1; i <= 1; i += 1) offset[c++] = (k * sy + j) * sx + i;
-#pragma omp simd
-  for (int q = 0; q < n; ++q) {
-    const int base = ((C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1)) * sx + (C.cx[q] - lo[0] + 1);
-    float best = 16;
-    for (int k = -1; k <= 1; k += 1)
-      for (int j = -1; j <= 1; j += 1)
-        for (int i = -1; i <= 1; i += 1) {
-          const int t = base + offset[((k + 1) * 3 + (j + 1)) * 3 + (i + 1)];
-          const float ox = i + T.fx[t] - C.dx[q];
-          const float oy = j + T.fy[t] - C.dy[q];
-          const float oz = k + T.fz[t] - C.dz[q];
-          best = min(best, ox * ox + oy * oy + oz * oz);
-        }
-    out[q] = smoothstep(0, 1, min(sqrt(best), CG_WORLEY_F1_CAP));
-  }
+  if (sx == 3 && sy == 3 && sz == 3)  // every lane in one cell: the table reads are uniform, no gathers
+    worley_lanes(n, T, C, offset, [](int) { return (1 * 3 + 1) * 3 + 1; }, out);
+  else
+    worley_lanes(
+        n, T, C, offset,
+        [&](int q) { return ((C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1)) * sx + (C.cx[q] - lo[0] + 1); },
+        out);
   return true;
 }
 
@@ -129,9 +142,22 @@ struct GradTable {
   int j[2 * kGradMaxCorners];
 };
 
+// cg_grad4 with its arithmetic selections as selects. cg_grad4's x * (1 - s) + y * s (s 0 or 1) is
+// exactly x or y unless the one chosen is -0 (-0 * 1 + 0 * y = +0 for y >= 0): its arguments here are
+// the lane's offsets in its cell, d = u - floor(u) >= +0 and d - 1 with d <= 1, differences of floats,
+// which are never -0 (a difference is -0 only as -0 - +0, and floor(u) = +0 means u >= +0); and all
+// finite. The signed sum is cg_grad4's, same products, same order: the value is bit for bit cg_grad4's.
+[[gnu::always_inline]] inline float grad_select(int h, float x, float y, float z, float w) {
+  const int j = h & 31;
+  const float a = j >= 24 ? y : x;
+  const float b = j >= 16 ? z : y;
+  const float c = j >= 8 ? w : z;
+  return a * float(1 - 2 * (j & 1)) + b * float(1 - (j & 2)) + c * float(1 - ((j & 4) >> 1));
+}
+
 // Interpolation along x of one lattice edge whose corners have gradient indices j0, j1 (cg_perlin4_x).
 [[gnu::always_inline]] inline float grad_edge(int j0, int j1, float dx, float dy, float dz, float dw, float ux) {
-  return mix(cg_grad4(j0, dx, dy, dz, dw), cg_grad4(j1, dx - 1, dy, dz, dw), ux);
+  return mix(grad_select(j0, dx, dy, dz, dw), grad_select(j1, dx - 1, dy, dz, dw), ux);
 }
 
 // The 8 corners of one w value of a cell whose first corner is table entry b (cg_perlin4_xyz).
@@ -142,6 +168,22 @@ struct GradTable {
   const float c = mix(grad_edge(J[b + oz], J[b + oz + 1], dx, dy, dz - 1, dw, ux),
                       grad_edge(J[b + oz + oy], J[b + oz + oy + 1], dx, dy - 1, dz - 1, dw, ux), uy);
   return mix(a, c, uz);
+}
+
+// cg_perlin4's interpolations and clamp for n lanes whose cell's first corner is table entry base(q).
+template <class Base>
+[[gnu::always_inline]] inline void gradient_lanes(int n, const int* J, int oy, int oz, int ow, float dw, float uw,
+                                                  const WorleyCells& C, Base base, float* out) {
+  const float dw1 = dw - 1;
+#pragma omp simd
+  for (int q = 0; q < n; ++q) {
+    const int b = base(q);
+    const float dx = C.dx[q], dy = C.dy[q], dz = C.dz[q];
+    const float ux = cg_fade(dx), uy = cg_fade(dy), uz = cg_fade(dz);
+    const float n0 = grad_cube(J, b, oy, oz, dx, dy, dz, dw, ux, uy, uz);
+    const float n1 = grad_cube(J, b + ow, oy, oz, dx, dy, dz, dw1, ux, uy, uz);
+    out[q] = clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
+  }
 }
 
 // cg_perlin4(x * freq + s, y * freq + s, z * freq + s, w + s, seed) of n lanes — the gradient term of
@@ -191,16 +233,12 @@ bool gradient_octave_table(int n, const float* x, const float* y, const float* z
     }
   const int oy = int(sx), oz = int(sx * sy), ow = int(corners);
   const int* J = T.j;
-  const float dw1 = dw - 1;
-#pragma omp simd
-  for (int q = 0; q < n; ++q) {
-    const int b = ((C.cz[q] - lo[2]) * int(sy) + (C.cy[q] - lo[1])) * int(sx) + (C.cx[q] - lo[0]);
-    const float dx = C.dx[q], dy = C.dy[q], dz = C.dz[q];
-    const float ux = cg_fade(dx), uy = cg_fade(dy), uz = cg_fade(dz);
-    const float n0 = grad_cube(J, b, oy, oz, dx, dy, dz, dw, ux, uy, uz);
-    const float n1 = grad_cube(J, b + ow, oy, oz, dx, dy, dz, dw1, ux, uy, uz);
-    out[q] = clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
-  }
+  if (corners == 8)  // every lane in one cell: the table reads are uniform, no gathers
+    gradient_lanes(n, J, oy, oz, ow, dw, uw, C, [](int) { return 0; }, out);
+  else
+    gradient_lanes(
+        n, J, oy, oz, ow, dw, uw, C,
+        [&](int q) { return ((C.cz[q] - lo[2]) * int(sy) + (C.cy[q] - lo[1])) * int(sx) + (C.cx[q] - lo[0]); }, out);
   return true;
 }
 
