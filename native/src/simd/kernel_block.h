@@ -138,11 +138,21 @@ bool worley_octave_table(int n, const float* x, const float* y, const float* z, 
 // expressions on the same values in the same order: bit for bit cg_perlin4.
 constexpr int kGradMaxCorners = 512;  // largest table (corners per w value) the kernel builds
 
+// The table, x-major so that its loops run along the long axis (rows: w value v, z, y) and vectorise.
 struct GradTable {
-  int j[2 * kGradMaxCorners];
+  int hy[2 * kGradMaxCorners];        // hash of row r = (v * sz + z) * sy + y (the chain w, z, y)
+  int j[2 * kGradMaxCorners + 1];     // gradient index of corner x of row r: j[x * rows + r]
+  int pack[2 * kGradMaxCorners + 1];  // j[t], j[t + rows], j[t + 1], j[t + rows + 1], 5 bits each: the 4
+                                      // corners (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1) of a face
 };
 
-// cg_grad4 with its arithmetic selections as selects. cg_grad4's x * (1 - s) + y * s (s 0 or 1) is
+// v * -1 when `sign` is the sign bit, v * 1 when it is 0: a float product by -1 or 1 is exact (the sign
+// bit flipped, or v), so this is bit for bit the product.
+[[gnu::always_inline]] inline float flip_sign(float v, int sign) {
+  return __builtin_bit_cast(float, __builtin_bit_cast(int, v) ^ sign);
+}
+
+// cg_grad4 with its arithmetic selections as selects and its products by -1 or 1 as sign flips. cg_grad4's x * (1 - s) + y * s (s 0 or 1) is
 // exactly x or y unless the one chosen is -0 (-0 * 1 + 0 * y = +0 for y >= 0): its arguments here are
 // the lane's offsets in its cell, d = u - floor(u) >= +0 and d - 1 with d <= 1, differences of floats,
 // which are never -0 (a difference is -0 only as -0 - +0, and floor(u) = +0 means u >= +0); and all
@@ -152,7 +162,7 @@ struct GradTable {
   const float a = j >= 24 ? y : x;
   const float b = j >= 16 ? z : y;
   const float c = j >= 8 ? w : z;
-  return a * float(1 - 2 * (j & 1)) + b * float(1 - (j & 2)) + c * float(1 - ((j & 4) >> 1));
+  return flip_sign(a, (j & 1) << 31) + flip_sign(b, (j & 2) << 30) + flip_sign(c, (j & 4) << 29);
 }
 
 // Interpolation along x of one lattice edge whose corners have gradient indices j0, j1 (cg_perlin4_x).
@@ -160,28 +170,32 @@ struct GradTable {
   return mix(grad_select(j0, dx, dy, dz, dw), grad_select(j1, dx - 1, dy, dz, dw), ux);
 }
 
-// The 8 corners of one w value of a cell whose first corner is table entry b (cg_perlin4_xyz).
-[[gnu::always_inline]] inline float grad_cube(const int* J, int b, int oy, int oz, float dx, float dy, float dz, float dw, float ux, float uy,
-                       float uz) {
-  const float a = mix(grad_edge(J[b], J[b + 1], dx, dy, dz, dw, ux),
-                      grad_edge(J[b + oy], J[b + oy + 1], dx, dy - 1, dz, dw, ux), uy);
-  const float c = mix(grad_edge(J[b + oz], J[b + oz + 1], dx, dy, dz - 1, dw, ux),
-                      grad_edge(J[b + oz + oy], J[b + oz + oy + 1], dx, dy - 1, dz - 1, dw, ux), uy);
+// Gradient index of corner c (x end + 2 * y end) of a cell's (w, z) face, packed as GradTable::pack.
+[[gnu::always_inline]] inline int corner(int pack, int c) { return (pack >> (5 * c)) & 31; }
+
+// The 8 corners of one w value of a cell whose z faces are packed in p0, p1 (cg_perlin4_xyz).
+[[gnu::always_inline]] inline float grad_cube(int p0, int p1, float dx, float dy, float dz, float dw, float ux,
+                                              float uy, float uz) {
+  const float a = mix(grad_edge(corner(p0, 0), corner(p0, 1), dx, dy, dz, dw, ux),
+                      grad_edge(corner(p0, 2), corner(p0, 3), dx, dy - 1, dz, dw, ux), uy);
+  const float c = mix(grad_edge(corner(p1, 0), corner(p1, 1), dx, dy, dz - 1, dw, ux),
+                      grad_edge(corner(p1, 2), corner(p1, 3), dx, dy - 1, dz - 1, dw, ux), uy);
   return mix(a, c, uz);
 }
 
-// cg_perlin4's interpolations and clamp for n lanes whose cell's first corner is table entry base(q).
-template <class Base>
-[[gnu::always_inline]] inline void gradient_lanes(int n, const int* J, int oy, int oz, int ow, float dw, float uw,
-                                                  const WorleyCells& C, Base base, float* out) {
+// cg_perlin4's interpolations and clamp for n lanes whose cell's (w0, z0) face is GradTable::pack entry
+// face(q); its z1 face is oz further, its w1 faces ow further (4 gathers per lane instead of 16).
+template <class Face>
+[[gnu::always_inline]] inline void gradient_lanes(int n, const int* P, int oz, int ow, float dw, float uw,
+                                                  const WorleyCells& C, Face face, float* out) {
   const float dw1 = dw - 1;
 #pragma omp simd
   for (int q = 0; q < n; ++q) {
-    const int b = base(q);
+    const int b = face(q);
     const float dx = C.dx[q], dy = C.dy[q], dz = C.dz[q];
     const float ux = cg_fade(dx), uy = cg_fade(dy), uz = cg_fade(dz);
-    const float n0 = grad_cube(J, b, oy, oz, dx, dy, dz, dw, ux, uy, uz);
-    const float n1 = grad_cube(J, b + ow, oy, oz, dx, dy, dz, dw1, ux, uy, uz);
+    const float n0 = grad_cube(P[b], P[b + oz], dx, dy, dz, dw, ux, uy, uz);
+    const float n1 = grad_cube(P[b + ow], P[b + ow + oz], dx, dy, dz, dw1, ux, uy, uz);
     out[q] = clamp(mix(n0, n1, uw) * CG_PERLIN_NORM, -1, 1);
   }
 }
@@ -222,23 +236,34 @@ bool gradient_octave_table(int n, const float* x, const float* y, const float* z
   const float dw = ww - fw;
   const float uw = cg_fade(dw);
   const int hw[2] = {cg_mix32(iw0 ^ seed), cg_mix32(iw1 ^ seed)};
+  // the hash chain of cg_perlin4 (w, then z, y, x), rows first, then each x along all rows
+  const int nz = int(sz), ny = int(sy), nx = int(sx), rows = 2 * nz * ny;
   for (int v = 0; v < 2; ++v)
-    for (int c = 0; c < sz; ++c) {
+    for (int c = 0; c < nz; ++c) {
       const int hz = cg_mix32(((lo[2] + c) & CG_PERIOD_MASK) ^ hw[v]);
-      for (int b = 0; b < sy; ++b) {
-        const int hy = cg_mix32(((lo[1] + b) & CG_PERIOD_MASK) ^ hz);
-        int* row = T.j + ((v * sz + c) * sy + b) * sx;
-        for (int a = 0; a < sx; ++a) row[a] = cg_mix32(((lo[0] + a) & CG_PERIOD_MASK) ^ hy) & 31;
-      }
+      int* hy = T.hy + (v * nz + c) * ny;
+#pragma omp simd
+      for (int b = 0; b < ny; ++b) hy[b] = cg_mix32(((lo[1] + b) & CG_PERIOD_MASK) ^ hz);
     }
-  const int oy = int(sx), oz = int(sx * sy), ow = int(corners);
+  for (int a = 0; a < nx; ++a) {
+    const int ix = (lo[0] + a) & CG_PERIOD_MASK;
+    int* J = T.j + a * rows;
+#pragma omp simd
+    for (int r = 0; r < rows; ++r) J[r] = cg_mix32(ix ^ T.hy[r]) & 31;
+  }
+  // each face's 4 corners packed (entries whose y + 1 or x + 1 runs past the table are never read)
+  T.j[nx * rows] = 0;
+  const int faces = (nx - 1) * rows;
   const int* J = T.j;
+#pragma omp simd
+  for (int t = 0; t < faces; ++t) T.pack[t] = J[t] | J[t + rows] << 5 | J[t + 1] << 10 | J[t + rows + 1] << 15;
+  const int oz = ny, ow = nz * ny;
   if (corners == 8)  // every lane in one cell: the table reads are uniform, no gathers
-    gradient_lanes(n, J, oy, oz, ow, dw, uw, C, [](int) { return 0; }, out);
+    gradient_lanes(n, T.pack, oz, ow, dw, uw, C, [](int) { return 0; }, out);
   else
     gradient_lanes(
-        n, J, oy, oz, ow, dw, uw, C,
-        [&](int q) { return ((C.cz[q] - lo[2]) * int(sy) + (C.cy[q] - lo[1])) * int(sx) + (C.cx[q] - lo[0]); }, out);
+        n, T.pack, oz, ow, dw, uw, C,
+        [&](int q) { return (C.cx[q] - lo[0]) * rows + (C.cz[q] - lo[2]) * ny + (C.cy[q] - lo[1]); }, out);
   return true;
 }
 
