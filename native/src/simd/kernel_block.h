@@ -101,30 +101,35 @@ bool worley_octave_table(int n, const float* x, const float* y, const float* z, 
   // Feature points of cells lo - 1 .. hi + 1 (the hash chain of cg_worley_f1: z, then y, then x): as
   // many cells as the lanes need, so a chunk inside one cell hashes the 27 cells of one point.
   const int sx = hi[0] - lo[0] + 3, sy = hi[1] - lo[1] + 3, sz = hi[2] - lo[2] + 3;
-  WorleyTable T;
+  // x-major (entry a * rows + c * sy + b for cell (a, b, c)), so the x hashes run along all rows at once
+  const int rows = sz * sy;
+  int hy[kSide * kSide];
   for (int c = 0; c < sz; ++c) {
     const int hz = cg_mix32(((lo[2] - 1 + c) & CG_PERIOD_MASK) ^ seed);
-    for (int b = 0; b < sy; ++b) {
-      const int hy = cg_mix32(((lo[1] - 1 + b) & CG_PERIOD_MASK) ^ hz);
-      for (int a = 0; a < sx; ++a) {
-        const int h = cg_mix32(((lo[0] - 1 + a) & CG_PERIOD_MASK) ^ hy);
-        const int t = (c * sy + b) * sx + a;
-        T.fx[t] = cg_feature(h);
-        T.fy[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y));
-        T.fz[t] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z));
-      }
+    for (int b = 0; b < sy; ++b) hy[c * sy + b] = cg_mix32(((lo[1] - 1 + b) & CG_PERIOD_MASK) ^ hz);
+  }
+  WorleyTable T;
+  for (int a = 0; a < sx; ++a) {
+    const int ix = (lo[0] - 1 + a) & CG_PERIOD_MASK;
+    float *fx = T.fx + a * rows, *fy = T.fy + a * rows, *fz = T.fz + a * rows;
+#pragma omp simd
+    for (int r = 0; r < rows; ++r) {
+      const int h = cg_mix32(ix ^ hy[r]);
+      fx[r] = cg_feature(h);
+      fy[r] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Y));
+      fz[r] = cg_feature(cg_mix32(h ^ CG_WORLEY_SALT_Z));
     }
   }
   int offset[27];  // table offset of neighbour (i, j, k), in cg_worley_f1's order
   for (int k = -1, c = 0; k <= 1; k += 1)
     for (int j = -1; j <= 1; j += 1)
-      for (int i = -1; i <= 1; i += 1) offset[c++] = (k * sy + j) * sx + i;
+      for (int i = -1; i <= 1; i += 1) offset[c++] = i * rows + k * sy + j;
   if (sx == 3 && sy == 3 && sz == 3)  // every lane in one cell: the table reads are uniform, no gathers
-    worley_lanes(n, T, C, offset, [](int) { return (1 * 3 + 1) * 3 + 1; }, out);
+    worley_lanes(n, T, C, offset, [](int) { return 1 * 9 + 1 * 3 + 1; }, out);
   else
     worley_lanes(
         n, T, C, offset,
-        [&](int q) { return ((C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1)) * sx + (C.cx[q] - lo[0] + 1); },
+        [&](int q) { return (C.cx[q] - lo[0] + 1) * rows + (C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1); },
         out);
   return true;
 }
