@@ -232,15 +232,15 @@ TEST(Simd, GridBlocksBitwise) {
     const cg::Model m = cg::prepare(params);
     std::vector<vec3> pts;
     for (int b = 0; b < blocks; ++b) {
-      const float spacing = float(std::pow(10.0, rng.uniform(std::log10(1.0 / 40), std::log10(20.0)))) /
-                            m.perlin_frequency;
+      const float spacing =
+          float(std::pow(10.0, rng.uniform(std::log10(1.0 / 40), std::log10(20.0)))) / m.perlin_frequency;
       const vec3 origin = point_for(m, rng, b % 6);
       if (b % 2 == 0) {
         for (int k = 0; k < 8; ++k)
           for (int j = 0; j < 8; ++j)
             for (int i = 0; i < 8; ++i)
-              pts.push_back(vec3(origin[0] + float(i) * spacing, origin[1] + float(j) * spacing,
-                                 origin[2] + float(k) * spacing));
+              pts.push_back(
+                  vec3(origin[0] + float(i) * spacing, origin[1] + float(j) * spacing, origin[2] + float(k) * spacing));
       } else {
         for (int i = 0; i < 256; ++i) pts.push_back(vec3(origin[0] + float(i) * spacing, origin[1], origin[2]));
       }

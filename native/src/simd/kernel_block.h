@@ -129,8 +129,7 @@ bool worley_octave_table(int n, const float* x, const float* y, const float* z, 
   else
     worley_lanes(
         n, T, C, offset,
-        [&](int q) { return (C.cx[q] - lo[0] + 1) * rows + (C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1); },
-        out);
+        [&](int q) { return (C.cx[q] - lo[0] + 1) * rows + (C.cz[q] - lo[2] + 1) * sy + (C.cy[q] - lo[1] + 1); }, out);
   return true;
 }
 
@@ -157,11 +156,11 @@ struct GradTable {
   return __builtin_bit_cast(float, __builtin_bit_cast(int, v) ^ sign);
 }
 
-// cg_grad4 with its arithmetic selections as selects and its products by -1 or 1 as sign flips. cg_grad4's x * (1 - s) + y * s (s 0 or 1) is
-// exactly x or y unless the one chosen is -0 (-0 * 1 + 0 * y = +0 for y >= 0): its arguments here are
-// the lane's offsets in its cell, d = u - floor(u) >= +0 and d - 1 with d <= 1, differences of floats,
-// which are never -0 (a difference is -0 only as -0 - +0, and floor(u) = +0 means u >= +0); and all
-// finite. The signed sum is cg_grad4's, same products, same order: the value is bit for bit cg_grad4's.
+// cg_grad4 with its arithmetic selections as selects and its products by -1 or 1 as sign flips. cg_grad4's x * (1 - s)
+// + y * s (s 0 or 1) is exactly x or y unless the one chosen is -0 (-0 * 1 + 0 * y = +0 for y >= 0): its arguments here
+// are the lane's offsets in its cell, d = u - floor(u) >= +0 and d - 1 with d <= 1, differences of floats, which are
+// never -0 (a difference is -0 only as -0 - +0, and floor(u) = +0 means u >= +0); and all finite. The signed sum is
+// cg_grad4's, same products, same order: the value is bit for bit cg_grad4's.
 [[gnu::always_inline]] inline float grad_select(int h, float x, float y, float z, float w) {
   const int j = h & 31;
   const float a = j >= 24 ? y : x;
