@@ -295,6 +295,9 @@ void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, 
   const float mean = kind == CG_FBM_WORLEY ? 0.5f : 0.0f;
   for (int i = 0; i < n; ++i) sum[i] = 0.0f;
   float norm = 0.0f, amp = 1.0f, freq = 1.0f;
+  // once the lanes span too many cells for a table, the finer octaves nearly always do too: stop trying (either path
+  // gives the same bits; this only saves the attempt on scattered points)
+  bool table = true;
   for (int k = 0; k < CG_MAX_OCTAVES; k += 1) {
     const float wd = cg_octave_weight(n_decl, k);
     if (wd <= 0.0f) break;
@@ -305,8 +308,8 @@ void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, 
       const float t = we / wd;
       if (kind == CG_FBM_WORLEY) {
         // cg_fbm_sample's Worley branch: shift s, octave seed, then the table when the cells allow it
-        if (worley_octave_table(n, x, y, z, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k), scratch.cells,
-                                scratch.sample)) {
+        if (table && (table = worley_octave_table(n, x, y, z, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k),
+                                                  scratch.cells, scratch.sample))) {
 #pragma omp simd
           for (int i = 0; i < n; ++i) sum[i] += aw * mix(mean, scratch.sample[i], t);
         } else {
@@ -314,8 +317,8 @@ void fbm_lanes(int kind, int n, const float* x, const float* y, const float* z, 
           for (int i = 0; i < n; ++i)
             sum[i] += aw * mix(mean, cg_fbm_sample(CG_FBM_WORLEY, vec3(x[i], y[i], z[i]), w, freq, k, seed), t);
         }
-      } else if (gradient_octave_table(n, x, y, z, w, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k), scratch.cells,
-                                       scratch.grad, scratch.sample)) {
+      } else if (table && (table = gradient_octave_table(n, x, y, z, w, freq, k * CG_OCTAVE_SHIFT, cg_mix32(seed ^ k),
+                                                         scratch.cells, scratch.grad, scratch.sample))) {
         // cg_fbm_sample's gradient branch through the corner table
 #pragma omp simd
         for (int i = 0; i < n; ++i) sum[i] += aw * mix(mean, scratch.sample[i], t);
