@@ -27,7 +27,7 @@ namespace cg::CG_SIMD_NS {
 
 namespace {
 
-constexpr int kChunk = 256;  // points per chunk (a multiple of the widest vector, 16 floats)
+constexpr int kChunk = 128;  // points per chunk (a multiple of the widest vector, 16 floats)
 constexpr int kPad = 16;     // noise loops run over a multiple of this many lanes
 
 // ---- Worley octave through a table of feature points -----------------------------------------------
