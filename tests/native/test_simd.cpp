@@ -16,6 +16,7 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cloudgen/density_block.h"
@@ -215,6 +216,41 @@ TEST(Simd, FarFromOriginBitwise) {
   std::printf("%lld points, %lld non-zero, %lld mismatches\n", (long long)c.points, (long long)c.nonzero,
               (long long)c.failures);
   EXPECT_EQ(c.failures, 0);
+}
+
+// Regular 8^3 blocks (a bake tile: 4 chunks of 8 x 8 x 2 points) and rows of 256 points (a preview row),
+// with a gradient-noise cell 0.05-40 spacings wide: every octave's cells span from one (the uniform
+// table reads) through several (the gathered table) to too many (the per-lane path), at random origins
+// in and around the box, for the defaults and every preset.
+TEST(Simd, GridBlocksBitwise) {
+  Checker c;
+  Rng rng(0xB10C);
+  std::vector<std::pair<std::string, cg::Params>> sets = {{"defaults", cg::Params()}};
+  for (const cg::Preset& p : cg::presets()) sets.emplace_back("preset " + p.name, p.params);
+  const int blocks = int(cgtest::count(24, 4));
+  for (const auto& [name, params] : sets) {
+    const cg::Model m = cg::prepare(params);
+    std::vector<vec3> pts;
+    for (int b = 0; b < blocks; ++b) {
+      const float spacing =
+          float(std::pow(10.0, rng.uniform(std::log10(1.0 / 40), std::log10(20.0)))) / m.perlin_frequency;
+      const vec3 origin = point_for(m, rng, b % 6);
+      if (b % 2 == 0) {
+        for (int k = 0; k < 8; ++k)
+          for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 8; ++i)
+              pts.push_back(
+                  vec3(origin[0] + float(i) * spacing, origin[1] + float(j) * spacing, origin[2] + float(k) * spacing));
+      } else {
+        for (int i = 0; i < 256; ++i) pts.push_back(vec3(origin[0] + float(i) * spacing, origin[1], origin[2]));
+      }
+    }
+    c.compare(name + " (blocks and rows)", params, m, pts, 77);
+  }
+  std::printf("%lld points, %lld non-zero, %lld mismatches\n", (long long)c.points, (long long)c.nonzero,
+              (long long)c.failures);
+  EXPECT_EQ(c.failures, 0);
+  EXPECT_GT(c.nonzero, c.points / 20);
 }
 
 // The bake (8^3 tiles through density_block at the active level) equals cg::density at every voxel centre.
