@@ -161,12 +161,17 @@ def main(argv=None):
 
     presets = cn.presets()
     names = [t for t in args.types.split(",") if t] or sorted(presets)
+    unknown = sorted(set(names) - set(presets))
+    if unknown:
+        raise SystemExit(f"gallery: error: unknown types {unknown}; known: {sorted(presets)}")
     shots = [s.split("-") for s in args.shots.split(",") if s]
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    jobs = [(n, v, s) for n in names for v, s in shots]
-    numbers = list(range(1, len(jobs) + 1))
+    # numbers are drawn over every type, so re-rendering some types keeps the others' files
+    everything = [(n, v, s) for n in sorted(presets) for v, s in shots]
+    numbers = list(range(1, len(everything) + 1))
     random.Random(args.seed).shuffle(numbers)
+    jobs, numbers = zip(*[(job, k) for job, k in zip(everything, numbers) if job[0] in names]) or ((), ())
     key_path = pathlib.Path(args.names) if args.names else out / "key.json"
     key = json.loads(key_path.read_text()) if key_path.exists() else {}
     with tempfile.TemporaryDirectory(prefix="cloudgen-gallery-") as work:
