@@ -57,6 +57,10 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
             c.max_bounces = max(c.max_bounces, CLOUD_BOUNCES)
             self.report({"INFO"}, f"Volume Bounces raised from {was} to {CLOUD_BOUNCES}: with fewer, thick "
                                   "clouds render dark grey (Ctrl+Z to undo)")
+        if getattr(c, "use_denoising", False) and not checks.denoiser_available(context.scene):
+            c.use_denoising = False  # Debian's 3.4 default scene: on, with no denoiser built in
+            self.report({"INFO"}, "Denoise turned off: this Blender has no denoiser for this device and a "
+                                  "render with it on fails (Ctrl+Z to undo)")
         problem = osl_problem(context)
         if problem:
             self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "

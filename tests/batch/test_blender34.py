@@ -213,3 +213,41 @@ def test_add_bake_undo_50_times_in_34(env):
                           env=e, capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0 and "UNDO-LOOP-OK 50" in proc.stdout, \
         (proc.returncode, proc.stdout[-2000:] + proc.stderr[-2000:])
+
+
+FARM_SETUP = """
+import sys, bpy, addon_utils
+addon_utils.enable("cloudgen", default_set=False)
+bpy.ops.wm.read_homefile()  # Debian's default scene: cube, light, camera, Denoise on (no OIDN built in)
+bpy.data.objects.remove(bpy.data.objects["Cube"])
+bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])
+assert bpy.ops.cloudgen.add_cloud(cloud_type="cumulus") == {"FINISHED"}
+assert bpy.ops.cloudgen.bake_vdb(resolution=48) == {"FINISHED"}
+sc = bpy.context.scene
+sc.render.resolution_x, sc.render.resolution_y, sc.cycles.samples = 80, 60, 4
+bpy.ops.wm.save_mainfile()
+"""
+
+
+def test_default_scene_cloud_renders_on_a_farm(env, tmp_path):
+    """A cloud added to Debian 3.4's default scene (Denoise on, no OpenImageDenoise in this
+    build), baked and saved, renders with `blender -b file -E CYCLES -f 1`: exit 0 and a
+    lit frame (> 1 % of pixels above 0.02 in any channel). Before Add Cloud turned the
+    missing denoiser off, Cycles refused with "Build without OpenImageDenoiser", exit 1."""
+    from scene_helpers import load_rgb
+
+    _, e = env
+    blend = tmp_path / "shot.blend"
+    script = tmp_path / "setup.py"
+    script.write_text(FARM_SETUP)
+    run = subprocess.run([BLENDER, "-b", "--python-exit-code", "1", "--python", str(script), "--", str(blend)],
+                         env=e, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert "Denoise turned off" in run.stdout + run.stderr
+    render = subprocess.run([BLENDER, "-b", "--addons", "cloudgen", str(blend), "-E", "CYCLES",
+                             "-o", str(tmp_path / "f_####"), "-f", "1"], env=e, capture_output=True, text=True,
+                            timeout=600)
+    assert render.returncode == 0, render.stdout[-2000:] + render.stderr[-2000:]
+    assert "OpenImageDenoiser" not in render.stdout + render.stderr
+    lit = float((load_rgb(tmp_path / "f_0001.png").max(axis=-1) > 0.02).mean())
+    assert lit > 0.01, f"only {lit:.2%} of the frame is lit"
