@@ -105,15 +105,16 @@ def _sky_type(node) -> str:
 
 def view_transform(scene) -> str:
     """AgX where the Blender has it (4.0+), else Filmic; both roll highlights off instead of
-    clipping them in one channel (Standard turns a bright cloud cyan or flat white)."""
-    items = {i.identifier for i in scene.view_settings.bl_rna.properties["view_transform"].enum_items}
+    clipping them in one channel (Standard turns a bright cloud cyan or flat white). Tried by
+    assignment: the bpy wheel lists no view transforms in the enum's RNA (it reads 'NONE')
+    although the assignment works. Returns the transform now set."""
     for name in ("AgX", "Filmic"):
         try:
             scene.view_settings.view_transform = name
             return name
         except TypeError:
             continue
-    return scene.view_settings.view_transform if items else "Standard"
+    return scene.view_settings.view_transform
 
 
 def make_sky(scene, elevation_deg: float, rotation_deg: float):

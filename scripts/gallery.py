@@ -110,8 +110,8 @@ def widened(name, values):
     return dict(values, box_size=[max(box[0], need), max(box[1], need), box[2]])
 
 
-def bake(name, values, box, out_vdb, args):
-    res = args.layer_resolution if is_layer(box) else args.resolution
+def bake(name, values, out_vdb, args):
+    res = args.layer_resolution if is_layer(values["box_size"]) else args.resolution
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
     try:
@@ -180,7 +180,7 @@ def main(argv=None):
             if name not in baked:
                 baked[name] = os.path.join(work, f"{name}.vdb")
                 params = widened(name, dict(cn.defaults(), **presets[name]["params"]))
-                bake(name, params, params["box_size"], baked[name], args)
+                bake(name, params, baked[name], args)
             png = out / f"{number:02d}.png"
             seconds = shot(name, view, sun, baked[name], str(png), args)
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
