@@ -5,8 +5,9 @@ its fix. The artist's own lights are never touched unless they press Cloud Sky &
 import math
 
 import bpy
+from mathutils import Vector
 
-from . import cloud_object, operators, sky_light
+from . import cloud_object, landscape, operators, sky_light
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
@@ -91,18 +92,30 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         name="Sun Azimuth", default=150.0, min=-180.0, max=180.0,
         description="Where the sun stands, degrees from the camera's view direction (0: ahead, in "
                     "the picture — backlit clouds with silver linings; 180: behind the camera)")
-    ground: bpy.props.BoolProperty(name="Ground", default=False,
-                                   description="Add a large dull ground plane at z = 0 (a horizon)")
-    ground_size: bpy.props.FloatProperty(name="Ground Size", default=5000.0, min=1.0, max=1.0e7,
-                                         description="Width of the ground plane, scene units")
+    landscape: bpy.props.BoolProperty(
+        name="Landscape", default=False,
+        description="Add rolling ground to the horizon around the camera and the haze over it (aerial "
+                    "perspective: far hills and the far part of a layer fade into it). Sized for the cloud "
+                    "types' scale, 1 unit = 250 m")
+
+    @staticmethod
+    def _haze_top(scene):
+        """The haze's top: landscape's default, or 80 % of the lowest cloud's bottom."""
+        bottoms = [min((o.matrix_world @ Vector(c)).z for c in o.bound_box)
+                   for o in scene.objects if cloud_object.is_cloud(o)]
+        top = landscape.units(landscape.HAZE_TOP_KM)
+        low = min(bottoms, default=top / 0.8)
+        return min(top, max(0.8 * low, 0.05 * top))
 
     def execute(self, context):
         scene = context.scene
         context.view_layer.update()  # the camera's matrix_world after edits in this script
         rotation = view_azimuth(scene) + self.sun_azimuth
         try:
-            info = sky_light.daylight(scene, self.sun_elevation, rotation,
-                                      ground_size=self.ground_size if self.ground else None)
+            info = sky_light.daylight(scene, self.sun_elevation, rotation)
+            if self.landscape:
+                at = scene.camera.matrix_world.translation if scene.camera else (0.0, 0.0)
+                landscape.landscape(scene, centre=(at[0], at[1]), haze_top=self._haze_top(scene))
         except RuntimeError as exc:
             self.report({"ERROR"}, f"Cloud Sky & Sun: {exc}")
             return {"CANCELLED"}

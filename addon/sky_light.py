@@ -1,5 +1,5 @@
 """Daylight for clouds: a physical sky, a sun lamp matched to it, a view transform and an
-exposure that keep cloud highlights, an optional ground. Used by the add-on's
+exposure that keep cloud highlights, a white balance for the sun. Used by the add-on's
 "Cloud Sky & Sun" operator and by scripts/render_cloud.py (loaded by its path: bpy and
 mathutils only, no imports of the add-on's own modules).
 
@@ -20,7 +20,6 @@ from mathutils import Vector
 SUN_ANGLE_DEG = 0.545
 SUN_LAMP = "Cloud Sun"
 SKY_WORLD = "Cloud Sky"
-GROUND = "Cloud Ground"
 
 # Irradiance (linear Rec.709 RGB, Blender's units) of the Nishita sky's sun disc on a surface
 # facing it, by sun elevation in degrees: sun_intensity 1, altitude 0, air/dust/ozone 1.
@@ -41,7 +40,9 @@ SUN_IRRADIANCE = (
 )
 CLAMP_DISPLAY = 10.0  # Cycles' default indirect clamp, meant for exposure 0: kept relative to the display
 SKY_SHARE = 0.15  # skylight on a sunlit surface, as a share of the direct sun (exposure rule)
-MIDDLE = 3.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
+MIDDLE = 5.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
+LOOKS = ("AgX - High Contrast", "Filmic - High Contrast", "High Contrast")  # by Blender version
+WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is left warm (golden hour)
 
 
 def denoiser_built_in() -> bool:
@@ -78,10 +79,12 @@ def sun_direction(elevation_deg: float, rotation_deg: float) -> Vector:
 
 def exposure_for(elevation_deg: float) -> float:
     """Film exposure (stops) that brings a white surface facing the sun to MIDDLE: its
-    radiance is about (1 + SKY_SHARE) * E_sun / pi. MIDDLE 3 (not 1): the sunlit side of the
+    radiance is about (1 + SKY_SHARE) * E_sun / pi. MIDDLE 5 (not 1): the sunlit side of the
     default cumulus, seen with the sun behind the camera, measured a third of that surface
     (a thick cloud sends much of its light out of its other sides), and a photographer
-    exposes for the cloud; AgX rolls the rest off. A low sun gets a longer exposure, as a
+    exposes for the cloud, so that its sunlit side comes out near white; AgX's High
+    Contrast look rolls the rest off (at MIDDLE 3 the sunlit side stayed at display 180 of
+    255, a grey cloud). A low sun gets a longer exposure, as a
     camera would; the floor keeps a set sun from blowing up the sky."""
     lum = max(luminance(sun_irradiance(max(elevation_deg, 2.0))), 1e-3)
     return math.log2(MIDDLE * math.pi / ((1.0 + SKY_SHARE) * lum))
@@ -93,6 +96,48 @@ def indirect_clamp(exposure: float) -> float:
     and darkened the default cumulus's sunlit side by 12 % (display 164 -> 145). Kept at 10
     after exposure, it still stops fireflies."""
     return CLAMP_DISPLAY * 2.0 ** (-exposure)
+
+
+def sun_temperature(elevation_deg: float) -> float:
+    """Correlated colour temperature (K) of the sun lamp at this elevation: its linear
+    Rec.709 colour to CIE xy, then McCamy's cubic (good to a few K between 2,800 and
+    6,500 K). The Nishita sun measures 3,800 K at 10°, 4,800 K at 30°, 5,200 K at 90°."""
+    r, g, b = sun_irradiance(max(elevation_deg, 2.0))
+    x_ = 0.4124 * r + 0.3576 * g + 0.1805 * b
+    y_ = 0.2126 * r + 0.7152 * g + 0.0722 * b
+    z_ = 0.0193 * r + 0.1192 * g + 0.9505 * b
+    x, y = x_ / (x_ + y_ + z_), y_ / (x_ + y_ + z_)
+    n = (x - 0.3320) / (0.1858 - y)
+    return 449.0 * n**3 + 3525.0 * n**2 + 6823.3 * n + 5520.33
+
+
+def white_balance(scene, elevation_deg: float):
+    """White balance for the sun, as a camera set to the light it is in: the sunlit side of a
+    cloud comes out white and the sky blue, not cream and grey-blue (a reviewer read the
+    unbalanced clouds as beige). A sun cooler than WHITE_BALANCE_FLOOR_K (below about 13°)
+    is balanced only to the floor: a low sun stays warm, as a photographer leaves it.
+    Blender 4.3+ (earlier versions have no white balance: returns None)."""
+    vs = scene.view_settings
+    if not hasattr(vs, "use_white_balance"):
+        return None
+    vs.use_white_balance = True
+    vs.white_balance_temperature = max(sun_temperature(elevation_deg), WHITE_BALANCE_FLOOR_K)
+    vs.white_balance_tint = 0.0
+    return vs.white_balance_temperature
+
+
+def look(scene) -> str:
+    """The view transform's High Contrast look (LOOKS, by Blender version): a photograph's
+    contrast; the base look leaves a hazy sky grey. Tried by assignment; returns the look
+    now set ("None" where there is none)."""
+    for name in LOOKS:
+        try:
+            scene.view_settings.look = name
+            return name
+        except TypeError:
+            continue
+    scene.view_settings.look = "None"
+    return "None"
 
 
 def _sky_type(node) -> str:
@@ -154,43 +199,20 @@ def make_sun(scene, elevation_deg: float, rotation_deg: float):
     return obj
 
 
-def make_ground(scene, size: float):
-    """A square plane GROUND at z = 0, `size` wide, dull grey-green (albedo ~0.1, fields seen
-    from far): a horizon and a scale cue. Made once, resized on a second call."""
-    obj = bpy.data.objects.get(GROUND)
-    if obj is None or obj.type != "MESH":
-        mesh = bpy.data.meshes.new(GROUND)
-        h = 0.5
-        mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
-        obj = bpy.data.objects.new(GROUND, mesh)
-        mat = bpy.data.materials.new(GROUND)
-        mat.use_nodes = True
-        bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
-        bsdf.inputs["Base Color"].default_value = (0.1, 0.12, 0.07, 1.0)
-        bsdf.inputs["Roughness"].default_value = 1.0
-        mesh.materials.append(mat)
-    if obj.name not in scene.objects:
-        scene.collection.objects.link(obj)
-    obj.scale = (size, size, 1.0)
-    return obj
-
-
-def daylight(scene, elevation_deg=35.0, rotation_deg=0.0, ground_size=None):
-    """Sky, sun, view transform and exposure for clouds; a ground plane when ground_size is
-    given. Returns a dict of what it set (for reports and tests)."""
+def daylight(scene, elevation_deg=35.0, rotation_deg=0.0):
+    """Sky, sun, view transform, look, white balance and exposure for clouds (the ground and
+    the haze: addon/landscape.py). Returns a dict of what it set (for reports and tests)."""
     if not (-90.0 <= elevation_deg <= 90.0):
         raise ValueError(f"sun elevation must be in [-90, 90] degrees, not {elevation_deg}")
     make_sky(scene, elevation_deg, rotation_deg)
     sun = make_sun(scene, elevation_deg, rotation_deg)
     view = view_transform(scene)
-    if hasattr(scene.view_settings, "look"):
-        scene.view_settings.look = "None"
+    looked = look(scene)
+    balance = white_balance(scene, elevation_deg)
     scene.view_settings.exposure = exposure_for(elevation_deg)
     scene.view_settings.gamma = 1.0
     if hasattr(scene, "cycles"):
         scene.cycles.sample_clamp_indirect = indirect_clamp(scene.view_settings.exposure)
-    if ground_size:
-        make_ground(scene, float(ground_size))
-    return {"view_transform": view, "exposure": scene.view_settings.exposure,
+    return {"view_transform": view, "look": looked, "white_balance": balance, "exposure": scene.view_settings.exposure,
             "clamp_indirect": getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", None),
             "sun_strength": sun.data.energy, "sun_color": tuple(sun.data.color)}

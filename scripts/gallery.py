@@ -36,104 +36,101 @@ import tempfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "osl"))
+import gallery_scene as gs  # noqa: E402
 
-# cloud base above the ground, scene units (1 unit ~ 250 m: the cumulus preset is 1 km wide), by
-# type: typical WMO base heights
-BASE_ALTITUDE = {"stratus": 2.0, "nimbostratus": 4.0, "stratocumulus": 5.0, "altocumulus": 12.0,
-                 "altostratus": 14.0, "cirrocumulus": 26.0, "cirrus": 30.0, "cirrostratus": 32.0}
-SUNS = {"low": (12.0, 120.0), "high": (60.0, 150.0)}
-LAYER_RATIO = 0.3
-FAR_EDGE_DEG = 6.0  # a layer's box is widened until its far edge is this low above the horizon
-EYE = 0.017  # eye height, scene units (1.7 m)
+SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 
 
 def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", required=True)
     ap.add_argument("--size", default="640x360")
-    ap.add_argument("--samples", type=int, default=16, help="samples per pixel (denoised; default 16)")
+    ap.add_argument("--samples", type=int, default=32, help="samples per pixel (denoised; default 32)")
     ap.add_argument("--types", default="", help="comma-separated presets (default: all)")
     ap.add_argument("--shots", default="side-low,below-high",
                     help="comma-separated VIEW-SUN (default side-low,below-high)")
-    ap.add_argument("--resolution", type=int, default=192, help="voxels along a compact cloud's longest side")
-    ap.add_argument("--layer-resolution", type=int, default=2048, help="voxels along a layer's longest side")
+    ap.add_argument("--resolution", type=int, default=256, help="voxels along a compact cloud's longest side")
     ap.add_argument("--names", default=None, help="where the key (file -> type, shot) goes")
     ap.add_argument("--seed", type=int, default=13, help="shuffle of the file numbers")
+    ap.add_argument("--format", default="png", choices=("png", "exr"), help="png (default) or exr (scene-linear)")
+    ap.add_argument("--bake-dir", default=None, help="keep the baked VDBs here (default: a temporary folder)")
     return ap.parse_args(argv)
 
 
-def is_layer(box):
-    return box[2] < LAYER_RATIO * max(box[0], box[1])
-
-
-def place(box, view, lens, width, height, name):
-    """(cloud centre, camera location, camera rotation) for a box and a view; the camera looks
-    along +Y turned up by its pitch."""
-    from mathutils import Vector
-
-    bx, by, bz = box
-    tan_x = 18.0 / lens
-    tan_y = tan_x * height / width
-    if is_layer(box):
-        base = BASE_ALTITUDE.get(name, 10.0)
-        centre = Vector((0.0, 0.0, base + bz / 2))
-        if view == "below":  # under the middle, looking at a point a quarter of the box ahead
-            return centre, Vector((0.0, 0.0, EYE)), max(55.0, math.degrees(math.atan2(base, 0.25 * by)))
-        # under the near part of the layer, looking along it toward the horizon
-        pitch = math.degrees(math.atan(0.55 * tan_y))  # horizon at ~22 % from the bottom
-        return centre, Vector((0.0, -0.4 * by, EYE)), pitch
-    pitch = math.degrees(math.atan(0.55 * tan_y))
-    top = math.radians(pitch) + math.atan(tan_y) - math.radians(2.0)  # elevation the top may reach
-    d = max(bx / 2 / (0.45 * tan_x), bz / (math.tan(top) - math.tan(math.radians(4.0))))
-    base = d * math.tan(math.radians(4.0))
-    centre = Vector((0.0, d, base + bz / 2))
-    if view == "below":  # near the base of a cloud a little higher up, looking up at its middle
-        base = max(base, 0.8 * max(bx, by))
-        centre = Vector((0.0, d, base + bz / 2))
-        cam = Vector((0.0, d - 0.7 * max(bx, by), EYE))
-        rise = math.degrees(math.atan2(centre.z - EYE, centre.y - cam.y))
-        return centre, cam, rise
-    return centre, Vector((0.0, 0.0, EYE)), pitch
-
-
-def widened(name, values):
-    """A layer's parameters with its box widened (never narrowed) so that, seen from under its
-    near part, its far edge lies FAR_EDGE_DEG above the horizon: a sheet that runs toward the
-    horizon, not a patch overhead. The noise is in scene units, so the texture keeps its scale
-    (only more of it); the sheet's fade grows with the box."""
-    box = list(values.get("box_size", [2, 2, 2]))
-    if not is_layer(box):
-        return values
-    need = BASE_ALTITUDE.get(name, 10.0) / (0.9 * math.tan(math.radians(FAR_EDGE_DEG)))
-    if max(box[0], box[1]) >= need:
-        return values
-    return dict(values, box_size=[max(box[0], need), max(box[1], need), box[2]])
-
-
-def bake(name, values, out_vdb, args):
-    res = args.layer_resolution if is_layer(values["box_size"]) else args.resolution
+def bake(name, values, out_vdb, resolution):
+    """`cloudgen bake` of these values to out_vdb, unless a file with the same bake key is
+    there (--update)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
     try:
         subprocess.run([str(ROOT / "build" / "bin" / "cloudgen"), "bake", "--params", f.name, "--resolution",
-                        str(res), "--output", out_vdb, "--quiet", "--max-memory", "16"], check=True)
+                        str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"],
+                       check=True)
     finally:
         os.remove(f.name)
+    return out_vdb
 
 
-def shot(name, view, sun, vdb, out_png, args):
+def bake_all(name, values, work, args):
+    """Bake what a type's shots need: {'main': path} for a compact type (plus 'companions':
+    [paths]), {'levels': [(path, inner, outer)]} for a layer."""
+    import cloudgen_native as cn
+
+    w = int(args.size.lower().split("x")[0])
+    if gs.is_layer(values["box_size"]):
+        levels = []
+        for k, (lv, res, inner, outer) in enumerate(gs.layer_levels(name, values, w)):
+            levels.append((bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res), inner, outer))
+        return {"levels": levels}
+    out = {"main": bake(name, values, os.path.join(work, f"{name}.vdb"), args.resolution), "companions": []}
+    if name in gs.COMPANIONS:
+        comp = gs.COMPANIONS[name][0]
+        cv = dict(cn.defaults(), **cn.presets()[comp]["params"])
+        for i in range(gs.COMPANION_SEEDS):
+            path = os.path.join(work, f"{comp}_seed{101 + i}.vdb")
+            out["companions"].append(bake(comp, dict(cv, seed=101 + i), path, args.resolution // 2))
+    return out
+
+
+def shot(name, view, sun, values, baked, out_png, args):
+    import bpy
     import render_cloud
+    from mathutils import Vector
 
+    main_vdb = baked["main"] if "main" in baked else baked["levels"][0][0]
     ra = render_cloud.parse_args(["--preset", name, "--output", out_png, "--size", args.size,
-                                  "--samples", str(args.samples), "--vdb", vdb])
-    values = widened(name, render_cloud.resolve_params(ra))
-    scene = render_cloud.build_scene(values, ra)  # the sky light, the material, the VDB object
+                                  "--samples", str(args.samples), "--vdb", main_vdb])
+    scene = render_cloud.build_scene(values, ra)  # the material, the main VDB object
     w, h = (int(v) for v in args.size.lower().split("x"))
-    lens = 24.0 if view == "below" else 35.0
-    box = values["box_size"]
-    centre, cam_at, pitch = place(box, view, lens, w, h, name)
     cloud = scene.objects["Cloud"]
-    cloud.location = centre
+    mat = cloud.data.materials[0]
+    rng = random.Random(f"{name}-{view}")
+    if "levels" in baked:
+        centre, cam_at, pitch, lens = gs.layer_view(name, values, view, w, h)
+        cloud.location = centre
+        gs.ring_mask(mat, baked["levels"][0][1], baked["levels"][0][2])
+        for k, (path, inner, outer) in enumerate(baked["levels"][1:], start=1):
+            m = mat.copy()
+            m.name = f"Cloud L{k}"
+            m.node_tree.nodes.clear()
+            render_cloud._addon_file("volume_material").volume_material(
+                m, render_cloud.resolve_material(ra), grid="density", phase="AUTO", step_rate=1.0)
+            gs.ring_mask(m, inner, outer)
+            gs.add_vdb(scene, path, m, centre, name=f"Cloud L{k}")
+    else:
+        centre, cam_at, pitch, lens = gs.compact_view(name, values, view, w, h)
+        cloud.location = centre
+        if baked["companions"]:
+            import cloudgen_native as cn
+
+            comp = gs.COMPANIONS[name][0]
+            cv = dict(cn.defaults(), **cn.presets()[comp]["params"])
+            cmat = bpy.data.materials.new("Companion")
+            render_cloud._addon_file("volume_material").volume_material(
+                cmat, dict(cn.presets()[comp].get("material", {})), grid="density", phase="AUTO", step_rate=1.0)
+            for i, (x, y, z, s, rot) in enumerate(gs.companions(name, values, cv, centre, view, w, h, rng)):
+                gs.add_vdb(scene, baked["companions"][i % len(baked["companions"])], cmat, (x, y, z), s, rot,
+                           name=f"Companion {i}")
     cam = scene.camera
     cam.data.lens = lens
     cam.data.sensor_fit = "HORIZONTAL"
@@ -142,16 +139,15 @@ def shot(name, view, sun, vdb, out_png, args):
     cam.rotation_euler = (math.radians(90.0 + pitch), 0.0, 0.0)
     sl = render_cloud._addon_file("sky_light")
     if sun == "behind":  # the sun right behind the cloud's upper part: silver lining
-        from mathutils import Vector
-
-        aim = centre + Vector((0.0, 0.0, 0.25 * box[2]))
-        rel = aim - cam_at
+        aim = Vector(centre) + Vector((0.0, 0.0, 0.25 * values["box_size"][2]))
+        rel = aim - Vector(cam_at)
         elevation = math.degrees(math.atan2(rel.z, math.hypot(rel.x, rel.y)))
-        sl.daylight(scene, elevation, 0.0, ground_size=1.0e4)
+        sl.daylight(scene, elevation, 0.0)
     else:
         elevation, azimuth = SUNS[sun]
-        sl.daylight(scene, elevation, azimuth, ground_size=1.0e4)
-    scene.cycles.use_denoising = sl.denoiser_built_in()
+        sl.daylight(scene, elevation, azimuth)
+    render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
+    scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
     return render_cloud.render(scene, out_png)
 
 
@@ -174,15 +170,16 @@ def main(argv=None):
     jobs, numbers = zip(*[(job, k) for job, k in zip(everything, numbers) if job[0] in names]) or ((), ())
     key_path = pathlib.Path(args.names) if args.names else out / "key.json"
     key = json.loads(key_path.read_text()) if key_path.exists() else {}
-    with tempfile.TemporaryDirectory(prefix="cloudgen-gallery-") as work:
+    with tempfile.TemporaryDirectory(prefix="cloudgen-gallery-") as tmp:
+        work = args.bake_dir or tmp
+        os.makedirs(work, exist_ok=True)
         baked = {}
         for (name, view, sun), number in zip(jobs, numbers):
+            values = gs.widened(name, dict(cn.defaults(), **presets[name]["params"]))
             if name not in baked:
-                baked[name] = os.path.join(work, f"{name}.vdb")
-                params = widened(name, dict(cn.defaults(), **presets[name]["params"]))
-                bake(name, params, baked[name], args)
-            png = out / f"{number:02d}.png"
-            seconds = shot(name, view, sun, baked[name], str(png), args)
+                baked[name] = bake_all(name, values, work, args)
+            png = out / f"{number:02d}.{args.format}"
+            seconds = shot(name, view, sun, values, baked[name], str(png), args)
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
             key_path.write_text(json.dumps(key, indent=1, sort_keys=True) + "\n")
             print(f"gallery: {png} {name} {view}-{sun} {seconds:.1f} s", flush=True)

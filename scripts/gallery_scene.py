@@ -1,0 +1,258 @@
+"""The gallery's scenes (scripts/gallery.py): where the clouds stand, where the camera looks
+from, what else is in shot. Pure geometry and bakes here; Blender objects in add_* (bpy).
+
+Scale: 1 scene unit = addon/landscape.py's METRES_PER_UNIT (250 m), the presets' scale.
+
+- Compact types (cumulus, congestus, cumulonimbus) stand at their WMO base height with
+  companions: a field of smaller cumulus of other seeds, every base at the one condensation
+  level (COMPANIONS). A lone cloud over an empty plain reads as a toy; a field, shrinking in
+  perspective toward the horizon, reads as weather.
+- Layers are baked as NESTED_LEVELS nested boxes around the camera, each twice as wide as the
+  next and with its own voxel size (a pixel's footprint where it is used): the outermost runs
+  until its far edge is FAR_EDGE_DEG above the horizon, where the haze takes it. A layer's
+  field inside the inner half of any box wider than it equals the widest box's field (the
+  Sheet fade acts only on the outer half; the noise is in scene units), so each level
+  renders only its ring (a mask in its material) and the rings join without a seam in the
+  field, only in the voxel size.
+"""
+import math
+
+EYE = 0.017  # eye height, scene units (1.7 m)
+# cloud base above the ground, km: typical WMO heights
+BASE_KM = {"cumulus": 1.2, "cumulus_congestus": 1.2, "cumulonimbus": 1.0, "stratocumulus": 1.0,
+           "stratus": 0.35, "nimbostratus": 0.7, "altocumulus": 3.0, "altostratus": 3.5,
+           "cirrocumulus": 6.5, "cirrus": 7.5, "cirrostratus": 8.0}
+# (companion preset, how many, scale range) beside a compact type's main cloud
+COMPANIONS = {"cumulus": ("cumulus", 14, (0.45, 1.0)),
+              "cumulus_congestus": ("cumulus", 10, (0.5, 1.1)),
+              "cumulonimbus": ("cumulus", 8, (0.7, 1.4))}
+COMPANION_SEEDS = 4
+LAYER_RATIO = 0.3
+FAR_EDGE_DEG = 3.0
+NESTED_LEVELS = 3
+PIXELS_PER_VOXEL = 1.5
+MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
+HORIZON_FROM_BOTTOM = 0.12  # side views: the horizon this far up the frame
+SIDE_LENS, BELOW_LENS = 35.0, 24.0
+MAIN_TOP_FROM_BOTTOM = 0.86  # side views: the main compact cloud's top this far up
+
+
+def is_layer(box) -> bool:
+    return box[2] < LAYER_RATIO * max(box[0], box[1])
+
+
+def km(v: float) -> float:
+    return v * 4.0  # 250 m per unit (addon/landscape.py METRES_PER_UNIT)
+
+
+def tans(lens: float, width: int, height: int):
+    """tan of half the horizontal and vertical field of view (36 mm sensor, horizontal fit)."""
+    tx = 18.0 / lens
+    return tx, tx * height / width
+
+
+def pitch_for_horizon(tan_y: float, from_bottom: float = HORIZON_FROM_BOTTOM) -> float:
+    """Camera pitch (degrees up) that puts the horizon `from_bottom` of the frame's height
+    above its bottom edge."""
+    return math.degrees(math.atan((1 - 2 * from_bottom) * tan_y))
+
+
+def vertical_extent(values) -> tuple:
+    """(bottom, top) of the cloud as fractions of the box height, from a cross-section
+    through the box's centre (the shape decides; the noise may not reach the box)."""
+    import cloudgen_native as cn
+    import numpy as np
+
+    rows = np.flatnonzero(cn.slice(values, "y", 0.5, 96, 192).max(axis=1) > 0)
+    if rows.size == 0:
+        return 0.0, 1.0
+    return 1.0 - (rows[-1] + 1) / 192.0, 1.0 - rows[0] / 192.0  # row 0 is the top
+
+
+def compact_view(name, values, view, width, height):
+    """For a compact type: (main cloud centre, camera location, pitch degrees, lens)."""
+    bx, by, bz = values["box_size"]
+    z0, z1 = vertical_extent(values)
+    base = km(BASE_KM.get(name, 1.2))
+    centre_z = base + (0.5 - z0) * bz  # the cloud's lowest point at the base height
+    top = base + (z1 - z0) * bz
+    if view == "below":
+        tx, ty = tans(BELOW_LENS, width, height)
+        aim = base + 0.3 * (z1 - z0) * bz
+        d = max(aim / math.tan(math.radians(55.0)), 0.6 * max(bx, by))
+        return (0.0, d, centre_z), (0.0, 0.0, EYE), math.degrees(math.atan2(aim - EYE, d)), BELOW_LENS
+    tx, ty = tans(SIDE_LENS, width, height)
+    pitch = pitch_for_horizon(ty)
+    top_elevation = math.radians(pitch) + math.atan((2 * MAIN_TOP_FROM_BOTTOM - 1) * ty)
+    d = max(top / math.tan(top_elevation), 1.2 * max(bx, by))
+    return (0.0, d, centre_z), (0.0, 0.0, EYE), pitch, SIDE_LENS
+
+
+def companions(name, main_values, comp_values, main_centre, view, width, height, rng):
+    """[(x, y, z, scale, rot_z)] of the companion clouds: in the camera's view wedge (side)
+    or around the main cloud (below), not overlapping each other or the main cloud, their
+    lowest points at the main cloud's base height."""
+    if name not in COMPANIONS:
+        return []
+    _, count, (s_lo, s_hi) = COMPANIONS[name]
+    mx, my, _ = main_values["box_size"]
+    cx, cy, cz = comp_values["box_size"]
+    z0, _ = vertical_extent(comp_values)
+    base = km(BASE_KM.get(name, 1.2))
+    tx, _ = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
+    main_r = 0.5 * math.hypot(mx, my)
+    d = main_centre[1]
+    placed = []
+    tries = 0
+    while len(placed) < count and tries < 5000:
+        tries += 1
+        s = rng.uniform(s_lo, s_hi)
+        r = 0.5 * math.hypot(cx, cy) * s
+        if view == "side":
+            y = d * math.exp(rng.uniform(math.log(0.5), math.log(8.0)))
+            x = rng.uniform(-1.2, 1.2) * y * tx
+        else:
+            y = rng.uniform(-0.5, 4.0) * d + d
+            x = rng.uniform(-2.5, 2.5) * d
+        if math.hypot(x - main_centre[0], y - main_centre[1]) < main_r + r:
+            continue
+        if view == "side" and y < d and abs(x) < main_r + r:  # in front of the main cloud
+            continue
+        if any(math.hypot(x - px, y - py) < 0.8 * (r + pr) for px, py, _, _, pr in placed):
+            continue
+        if view == "side" and any(_screen_overlap((x, y, r), (px, py, pr), cz * s, base)
+                                  for px, py, _, _, pr in placed):
+            continue
+        if math.hypot(x, y) < r + km(0.3):  # not over the camera
+            continue
+        z = base + (0.5 - z0) * cz * s
+        placed.append((x, y, z, s, r))
+    return [(x, y, z, s, rng.uniform(0.0, 2 * math.pi)) for x, y, z, s, _ in placed]
+
+
+def _screen_overlap(a, b, height, base) -> bool:
+    """Two clouds (x, y, radius) seen from the origin looking along +y overlap in azimuth and,
+    with their bases at `base`, in elevation: the farther one's top (base + height) rises above
+    the nearer one's base (their bodies would stack in the picture)."""
+    (xa, ya, ra), (xb, yb, rb) = a, b
+    if abs(math.atan2(xa, ya) - math.atan2(xb, yb)) > 0.9 * (math.atan2(ra, ya) + math.atan2(rb, yb)):
+        return False
+    near, far = sorted((ya, yb))
+    return far < near * (1 + height / base)
+
+
+def widened(name, values):
+    """A layer's parameters with its box widened (never narrowed) so that, seen from its
+    centre, its far edge lies FAR_EDGE_DEG above the horizon."""
+    box = list(values["box_size"])
+    if not is_layer(box):
+        return values
+    need = 2 * km(BASE_KM.get(name, 2.5)) / math.tan(math.radians(FAR_EDGE_DEG))
+    if max(box[0], box[1]) >= need:
+        return values
+    return dict(values, box_size=[max(box[0], need), max(box[1], need), box[2]])
+
+
+def layer_levels(name, values, width):
+    """The nested bakes of a (widened) layer: [(values, resolution, inner, outer)] from the
+    widest box in; level k renders where inner <= max(|x|, |y|) < outer (scene units from
+    the centre; outer None: to the edge). Voxel: PIXELS_PER_VOXEL footprints of a 24 mm
+    lens's pixel at the nearest distance the level is seen from, capped by MAX_LEVEL_VOXELS."""
+    box = values["box_size"]
+    wide = max(box[0], box[1])
+    base = km(BASE_KM.get(name, 2.5))
+    tan_x = 18.0 / BELOW_LENS
+    levels = []
+    for k in range(NESTED_LEVELS):
+        size = wide / 2 ** k
+        inner = wide / 2 ** (k + 3) if k < NESTED_LEVELS - 1 else 0.0
+        outer = None if k == 0 else wide / 2 ** (k + 2)
+        nearest = math.hypot(base, inner)
+        voxel = PIXELS_PER_VOXEL * nearest * 2 * tan_x / width
+        voxel = max(voxel, (size * size * box[2] / MAX_LEVEL_VOXELS) ** (1 / 3))
+        res = int(math.ceil(size / voxel))
+        lv = dict(values, box_size=[box[0] / 2 ** k, box[1] / 2 ** k, box[2]])
+        levels.append((lv, res, inner, outer))
+    return levels
+
+
+def layer_view(name, values, view, width, height):
+    """For a layer: (centre, camera, pitch, lens) — the camera under the middle of the
+    nested levels."""
+    bz = values["box_size"][2]
+    base = km(BASE_KM.get(name, 2.5))
+    centre = (0.0, 0.0, base + bz / 2)
+    if view == "below":
+        return centre, (0.0, 0.0, EYE), 50.0, BELOW_LENS
+    _, ty = tans(SIDE_LENS, width, height)
+    return centre, (0.0, 0.0, EYE), pitch_for_horizon(ty), SIDE_LENS
+
+
+def haze_top(name) -> float:
+    """The haze's top, scene units: 0.6 km, or below a low cloud's base."""
+    return min(km(0.6), 0.8 * km(BASE_KM.get(name, 1.2)))
+
+
+# ------------------------------------------------------------------ Blender objects ---
+
+
+def ring_mask(mat, inner: float, outer):
+    """Multiply the density of mat's cloud volume by 1 where inner <= max(|x|, |y|) < outer
+    in object coordinates, 0 elsewhere (outer None: no outer limit)."""
+    nt = mat.node_tree
+    volume = nt.nodes["Cloud Volume"]
+    coords = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(coords.outputs["Object"], sep.inputs[0])
+    ax = nt.nodes.new("ShaderNodeMath")
+    ax.operation = "ABSOLUTE"
+    ay = nt.nodes.new("ShaderNodeMath")
+    ay.operation = "ABSOLUTE"
+    nt.links.new(sep.outputs["X"], ax.inputs[0])
+    nt.links.new(sep.outputs["Y"], ay.inputs[0])
+    m = nt.nodes.new("ShaderNodeMath")
+    m.operation = "MAXIMUM"
+    nt.links.new(ax.outputs[0], m.inputs[0])
+    nt.links.new(ay.outputs[0], m.inputs[1])
+    keep = nt.nodes.new("ShaderNodeMath")
+    keep.operation = "GREATER_THAN"  # 1 where m > inner - tiny
+    nt.links.new(m.outputs[0], keep.inputs[0])
+    keep.inputs[1].default_value = inner - 1e-6
+    if outer is not None:
+        below = nt.nodes.new("ShaderNodeMath")
+        below.operation = "LESS_THAN"
+        nt.links.new(m.outputs[0], below.inputs[0])
+        below.inputs[1].default_value = outer
+        both = nt.nodes.new("ShaderNodeMath")
+        both.operation = "MULTIPLY"
+        nt.links.new(keep.outputs[0], both.inputs[0])
+        nt.links.new(below.outputs[0], both.inputs[1])
+        keep = both
+    density = volume.inputs["Density"]
+    if density.is_linked:  # Volume Scatter: grid attribute -> Density; multiply it in
+        src = density.links[0].from_socket
+        mul = nt.nodes.new("ShaderNodeMath")
+        mul.operation = "MULTIPLY"
+        nt.links.new(src, mul.inputs[0])
+        nt.links.new(keep.outputs[0], mul.inputs[1])
+        nt.links.new(mul.outputs[0], density)
+    else:  # Principled Volume: Density multiplies the Density Attribute
+        nt.links.new(keep.outputs[0], density)
+
+
+def add_vdb(scene, path, mat, location, scale=1.0, rot_z=0.0, name="Cloud"):
+    """A Volume object reading `path` with material `mat`."""
+    import pathlib
+
+    import bpy
+
+    vol = bpy.data.volumes.new(name)
+    vol.filepath = str(pathlib.Path(path).resolve())
+    vol.grids.load()
+    vol.materials.append(mat)
+    obj = bpy.data.objects.new(name, vol)
+    obj.location = location
+    obj.scale = (scale, scale, scale)
+    obj.rotation_euler = (0.0, 0.0, rot_z)
+    scene.collection.objects.link(obj)
+    return obj

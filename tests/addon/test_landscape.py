@@ -1,0 +1,170 @@
+"""The landscape (addon/landscape.py: ground with hills, haze) and the photographic parts of
+Cloud Sky & Sun (addon/sky_light.py: look, white balance), in the bpy wheel (issue 13,
+"Light, out of the box": a horizon and a scale cue; clouds white, the sky blue).
+
+- Cloud Sky & Sun with Landscape makes one ground and one haze box, and again one of each on
+  a second call; the artist's own objects stay;
+- the ground is flat where the camera stands (no hill in the lens) and hilly far out
+  (tolerance: 1e-4 scene units flat; hills at least a third of HILL_KM high);
+- the haze's top lies below the lowest cloud, its extinction is Koschmieder's 3.912 / V;
+- aerial perspective, rendered: seen toward the horizon, the far ground comes closer to the
+  sky's brightness with the haze than without it;
+- the look and the white balance: the sun's colour temperature (McCamy), floored for a low
+  sun; a sunlit white card renders neutral (r/b within 10 %) after balancing."""
+import math
+
+import pytest
+
+
+def _camera(scene, location=(3.0, -2.0, 0.017), pitch_deg=0.0):
+    import bpy
+
+    cam = bpy.data.objects.new("Shot", bpy.data.cameras.new("Shot"))
+    scene.collection.objects.link(cam)
+    cam.location = location
+    cam.rotation_euler = (math.radians(90.0 + pitch_deg), 0.0, 0.0)  # looks along +Y
+    cam.data.clip_end = 1.0e5
+    scene.camera = cam
+    return cam
+
+
+def _evaluated_z(obj):
+    """World-space vertex heights of obj after its modifiers, with their x, y."""
+    import bpy
+
+    dg = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(dg)
+    mesh = ev.to_mesh()
+    try:
+        mw = ev.matrix_world
+        return [tuple(mw @ v.co) for v in mesh.vertices]
+    finally:
+        ev.to_mesh_clear()
+
+
+def test_landscape_made_once_and_clear_at_the_camera(addon, scene):
+    import bpy
+
+    ls = addon.landscape
+    cam = _camera(scene)
+    artist = bpy.data.objects.new("Artist Lamp", bpy.data.lights.new("Artist Lamp", "POINT"))
+    scene.collection.objects.link(artist)
+    assert bpy.ops.cloudgen.add_cloud(cloud_type="cumulus") == {"FINISHED"}
+    cloud = bpy.context.view_layer.objects.active
+    cloud.location.z = 6.0
+    for _ in range(2):
+        assert bpy.ops.cloudgen.sky_setup(landscape=True) == {"FINISHED"}
+    names = [o.name for o in scene.objects]
+    assert names.count(ls.GROUND) == 1 and names.count(ls.HAZE) == 1, names
+    assert not any(n.startswith(ls.GROUND + ".") or n.startswith(ls.HAZE + ".") for n in names), names
+    assert "Artist Lamp" in names and cloud.name in names
+    assert len([m for m in bpy.data.meshes if m.name.startswith(ls.GROUND)]) == 1
+
+    points = _evaluated_z(scene.objects[ls.GROUND])
+    cx, cy = cam.location.x, cam.location.y
+    near = [z for x, y, z in points if math.hypot(x - cx, y - cy) <= ls.units(ls.CLEAR_KM)]
+    far = [z for x, y, z in points if math.hypot(x - cx, y - cy) >= ls.units(ls.RISE_KM)]
+    assert near and max(abs(z) for z in near) <= 1e-4, (max(abs(z) for z in near), (cx, cy))
+    assert max(far) >= ls.units(ls.HILL_KM) / 3, (max(far), ls.units(ls.HILL_KM))
+
+    haze = scene.objects[ls.HAZE]
+    top = haze.location.z + haze.scale.z / 2
+    cloud_bottom = min((cloud.matrix_world @ __import__("mathutils").Vector(c)).z for c in cloud.bound_box)
+    assert 0 < top <= 0.8 * cloud_bottom + 1e-6, (top, cloud_bottom)
+    scatter = next(n for n in haze.data.materials[0].node_tree.nodes if n.bl_idname == "ShaderNodeVolumeScatter")
+    want = 3.912 / ls.units(ls.VISIBILITY_KM)
+    assert scatter.inputs["Density"].default_value == pytest.approx(want, rel=1e-6)
+
+
+def test_bad_haze_refused(addon):
+    ls = addon.landscape
+    for bad in (0.0, -1.0, 1.0e4, float("nan")):
+        with pytest.raises(ValueError, match="visibility"):
+            ls.haze_extinction(bad)
+
+
+def _mean_rows(path, rows):
+    import bpy
+    import numpy as np
+
+    img = bpy.data.images.load(path)
+    try:
+        px = np.array(img.pixels[:], dtype=np.float32).reshape(img.size[1], img.size[0], 4)
+    finally:
+        bpy.data.images.remove(img)
+    px = px[::-1]  # Blender's rows start at the bottom
+    return [float(px[r, :, :3].mean()) for r in rows]
+
+
+def test_haze_brings_the_far_ground_toward_the_sky(addon, scene, tmp_path):
+    """Toward the horizon (camera pitched so the horizon is mid-frame): the contrast between
+    the sky just above the horizon and the far ground just below it, with and without the
+    haze. Aerial perspective shrinks it; the haze must take away at least a third."""
+    import bpy
+
+    ls, sl = addon.landscape, addon.sky_light
+    _camera(scene, location=(0.0, 0.0, 0.017))
+    sl.daylight(scene, 30.0, 150.0)
+    ls.landscape(scene, centre=(0.0, 0.0))
+    scene.render.resolution_x, scene.render.resolution_y = 64, 36
+    scene.cycles.samples = 16
+    scene.cycles.use_denoising = False
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    rows = (16, 20)  # just above and below the horizon (row 18)
+    contrast = {}
+    for haze in (True, False):
+        scene.objects[ls.HAZE].hide_render = not haze
+        scene.render.filepath = str(tmp_path / f"h{int(haze)}.exr")
+        bpy.ops.render.render(write_still=True)
+        sky, ground = _mean_rows(scene.render.filepath, rows)
+        contrast[haze] = (sky - ground) / max(sky, 1e-9)
+    assert contrast[False] > 0.2, contrast  # the scene shows a horizon at all
+    assert contrast[True] < (2 / 3) * contrast[False], contrast
+
+
+def test_look_and_white_balance(addon, scene):
+    sl = addon.sky_light
+    temps = [sl.sun_temperature(e) for e in (4.0, 10.0, 20.0, 45.0, 90.0)]
+    assert temps == sorted(temps), temps
+    assert 5000 < temps[-1] < 5500 and 2500 < temps[0] < 3200, temps
+    info = sl.daylight(scene, 30.0, 150.0)
+    vs = scene.view_settings
+    assert info["look"] in sl.LOOKS and vs.look == info["look"], (info, vs.look)
+    assert vs.use_white_balance and vs.white_balance_temperature == pytest.approx(sl.sun_temperature(30.0))
+    sl.daylight(scene, 5.0, 150.0)
+    assert vs.white_balance_temperature == pytest.approx(sl.WHITE_BALANCE_FLOOR_K)
+
+
+def test_balanced_white_card_is_neutral(addon, scene, tmp_path):
+    """A white diffuse card facing the sun, seen through the camera after Cloud Sky & Sun's
+    balance: red and blue within 10 % of each other (unbalanced, the 30° sun gives r/b 1.5)."""
+    import bpy
+
+    sl = addon.sky_light
+    sl.daylight(scene, 30.0, 180.0)
+    cam = _camera(scene, location=(0.0, -3.0, 0.0))
+    bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.0, 0.0))
+    card = bpy.context.active_object
+    toward_sun = sl.sun_direction(30.0, 180.0 + addon.light_setup.view_azimuth(scene))
+    card.rotation_euler = toward_sun.to_track_quat("Z", "Y").to_euler()
+    mat = bpy.data.materials.new("White")
+    mat.use_nodes = True
+    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    bsdf.inputs["Roughness"].default_value = 1.0
+    card.data.materials.append(mat)
+    cam.data.lens = 100.0
+    scene.render.image_settings.file_format = "PNG"
+    ratios = {}
+    for balance in (True, False):
+        scene.view_settings.use_white_balance = balance
+        scene.render.filepath = str(tmp_path / f"card{int(balance)}.png")
+        bpy.ops.render.render(write_still=True)
+        img = bpy.data.images.load(scene.render.filepath)
+        px = list(img.pixels[:])
+        w, h = img.size
+        i = 4 * ((h // 2) * w + w // 2)
+        ratios[balance] = px[i] / max(px[i + 2], 1e-6)
+        bpy.data.images.remove(img)
+    assert abs(ratios[True] - 1.0) <= 0.10, ratios
+    assert ratios[False] > 1.2, ratios  # the test can tell: unbalanced, the card is warm
