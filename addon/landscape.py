@@ -17,7 +17,8 @@ is 1 km wide), and so is this landscape:
   FEATURE_KM across; albedo 0.04-0.10, vegetation and fields;
 - haze: a homogeneous box over the ground up to `haze_top` (default HAZE_TOP_KM), extinction
   from the meteorological visibility (Koschmieder: beta = 3.912 / V), scattering only,
-  forward-peaked like aerosols (HAZE_ANISOTROPY). A homogeneous volume costs Cycles no
+  mildly forward-peaked (HAZE_ANISOTROPY 0.3: aerosol 0.7 plus the air's own near-isotropic scattering;
+  at 0.6 haze seen with the sun behind the camera rendered darker than the sky it should fade into). A homogeneous volume costs Cycles no
   stepping; keep its top below the clouds (a cloud inside the haze makes the haze
   heterogeneous along those rays and slows them).
 """
@@ -34,8 +35,8 @@ HILL_KM = 0.25
 FEATURE_KM = 2.5
 GRID_CELLS = 400  # per side: 250 m cells at the default size
 HAZE_TOP_KM = 1.2
-VISIBILITY_KM = 50.0
-HAZE_ANISOTROPY = 0.6
+VISIBILITY_KM = 30.0
+HAZE_ANISOTROPY = 0.3
 HAZE_ALBEDO = 0.95
 GROUND = "Cloud Ground"
 HAZE = "Cloud Haze"

@@ -97,29 +97,33 @@ def _mean_rows(path, rows):
 
 
 def test_haze_brings_the_far_ground_toward_the_sky(addon, scene, tmp_path):
-    """Toward the horizon (camera pitched so the horizon is mid-frame): the contrast between
-    the sky just above the horizon and the far ground just below it, with and without the
-    haze. Aerial perspective shrinks it; the haze must take away at least a third."""
+    """Toward the horizon through a 100 mm lens from 125 m up (the frame spans ±5.8°): the
+    contrast between the sky 4° up and the far ground 0.5° down (about 14 km away), with and
+    without the haze. Aerial perspective shrinks it; the haze must take away at least a third.
+    (From eye height the far ground is a sliver of a row: this camera stands on a hill.)"""
     import bpy
 
     ls, sl = addon.landscape, addon.sky_light
-    _camera(scene, location=(0.0, 0.0, 0.017))
+    cam = _camera(scene, location=(0.0, 0.0, 0.5), pitch_deg=0.0)
+    cam.data.lens = 100.0
+    cam.data.sensor_fit = "HORIZONTAL"
     sl.daylight(scene, 30.0, 150.0)
     ls.landscape(scene, centre=(0.0, 0.0))
     scene.render.resolution_x, scene.render.resolution_y = 64, 36
     scene.cycles.samples = 16
     scene.cycles.use_denoising = False
     scene.render.image_settings.file_format = "OPEN_EXR"
-    rows = (16, 20)  # just above and below the horizon (row 18)
+    tan_half = 18.0 / 100.0 * 36 / 64
+    rows_at = [int(18 - 18 * math.tan(math.radians(e)) / tan_half) for e in (4.0, -0.5)]
     contrast = {}
     for haze in (True, False):
         scene.objects[ls.HAZE].hide_render = not haze
         scene.render.filepath = str(tmp_path / f"h{int(haze)}.exr")
         bpy.ops.render.render(write_still=True)
-        sky, ground = _mean_rows(scene.render.filepath, rows)
-        contrast[haze] = (sky - ground) / max(sky, 1e-9)
-    assert contrast[False] > 0.2, contrast  # the scene shows a horizon at all
-    assert contrast[True] < (2 / 3) * contrast[False], contrast
+        sky, far = _mean_rows(scene.render.filepath, rows_at)
+        contrast[haze] = (sky - far) / max(sky, 1e-9)
+    assert contrast[False] > 0.3, (contrast, rows_at)  # without haze the far hills stand out
+    assert contrast[True] < (2 / 3) * contrast[False], (contrast, rows_at)
 
 
 def test_look_and_white_balance(addon, scene):
@@ -135,9 +139,9 @@ def test_look_and_white_balance(addon, scene):
     assert vs.white_balance_temperature == pytest.approx(sl.WHITE_BALANCE_FLOOR_K)
 
 
-def test_balanced_white_card_is_neutral(addon, scene, tmp_path):
-    """A white diffuse card facing the sun, seen through the camera after Cloud Sky & Sun's
-    balance: red and blue within 10 % of each other (unbalanced, the 30° sun gives r/b 1.5)."""
+def test_balanced_grey_card_is_neutral(addon, scene, tmp_path):
+    """A grey diffuse card facing the sun, seen through the camera after Cloud Sky & Sun's
+    balance: red and blue within 10 % of each other (unbalanced, the 30° sun makes it warm)."""
     import bpy
 
     sl = addon.sky_light
@@ -150,7 +154,7 @@ def test_balanced_white_card_is_neutral(addon, scene, tmp_path):
     mat = bpy.data.materials.new("White")
     mat.use_nodes = True
     bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    bsdf.inputs["Base Color"].default_value = (0.05, 0.05, 0.05, 1.0)  # grey: a white card clips at this exposure
     bsdf.inputs["Roughness"].default_value = 1.0
     card.data.materials.append(mat)
     cam.data.lens = 100.0
