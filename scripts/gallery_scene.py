@@ -28,8 +28,9 @@ COMPANIONS = {"cumulus": ("cumulus", 14, (0.45, 1.0)),
               "cumulonimbus": ("cumulus", 8, (0.7, 1.4))}
 COMPANION_SEEDS = 4
 LAYER_RATIO = 0.3
-FAR_EDGE_DEG = 3.0
-NESTED_LEVELS = 3
+FAR_EDGE_DEG = 1.0
+NESTED_LEVELS = 4
+THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
 HORIZON_FROM_BOTTOM = 0.12  # side views: the horizon this far up the frame
@@ -169,6 +170,7 @@ def layer_levels(name, values, width):
         outer = None if k == 0 else wide / 2 ** (k + 2)
         nearest = math.hypot(base, inner)
         voxel = PIXELS_PER_VOXEL * nearest * 2 * tan_x / width
+        voxel = max(voxel, min(box[2] / THICKNESS_VOXELS, 4 * voxel))
         voxel = max(voxel, (size * size * box[2] / MAX_LEVEL_VOXELS) ** (1 / 3))
         res = int(math.ceil(size / voxel))
         lv = dict(values, box_size=[box[0] / 2 ** k, box[1] / 2 ** k, box[2]])
@@ -189,8 +191,8 @@ def layer_view(name, values, view, width, height):
 
 
 def haze_top(name) -> float:
-    """The haze's top, scene units: 0.6 km, or below a low cloud's base."""
-    return min(km(0.6), 0.8 * km(BASE_KM.get(name, 1.2)))
+    """The haze's top, scene units: 1 km, or below a low cloud's base."""
+    return min(km(1.0), 0.8 * km(BASE_KM.get(name, 1.2)))
 
 
 # ------------------------------------------------------------------ Blender objects ---
