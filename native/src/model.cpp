@@ -73,6 +73,9 @@ Model prepare(const Params& p) {
   m.sheet = p.get(SHEET);
   m.stretch = p.get(STRETCH);
   m.shear = p.get(SHEAR);
+  m.warp = p.get(WARP);
+  m.warp_frequency = cg_warp_frequency(m.worley_frequency, p.get(WARP_SCALE));
+  m.warp_offset = cg_noise_offset(location, stationary, wind, strength, time, m.warp_frequency);
   m.turret_influence = p.get(TURRET_INFLUENCE);
   m.turret_frequency = cg_turret_frequency(m.worley_frequency, p.get(TURRET_SCALE));
   m.turret_offset = cg_turret_offset(location, stationary, wind, strength, time, m.turret_frequency);

@@ -56,9 +56,14 @@ inline float shape_at_generated(const Model& m, vec3 g) {
 // Shape term (S(h) - T_x^2 - T_y^2 with the shape terms) at a local point.
 inline float shape_at(const Model& m, vec3 p) { return shape_at_generated(m, generated(m, p)); }
 
+// The local point moved by the domain warp (the identity at Warp 0).
+inline vec3 warped(const Model& m, vec3 p) {
+  return cg_domain_warp(p, m.warp, m.warp_frequency, p * m.warp_frequency + m.warp_offset, m.w4, m.seed);
+}
+
 // Cloud Noise texture N in [0, 1] at a local point.
 inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
-  const vec3 q = cg_noise_warp(p, m.stretch, m.shear);
+  const vec3 q = cg_noise_warp(warped(m, p), m.stretch, m.shear);
   const vec3 pw = q * m.worley_frequency + m.worley_offset;
   const vec3 pp = q * m.perlin_frequency + m.perlin_offset;
   const vec3 pt = cg_turret_point(q, m.turret_frequency, m.turret_offset);

@@ -44,6 +44,9 @@ CG_MODEL_FIELD(float, lean, Always)
 CG_MODEL_FIELD(float, sheet, Always)
 CG_MODEL_FIELD(float, stretch, Always)                           // noise warp
 CG_MODEL_FIELD(float, shear, Always)
+CG_MODEL_FIELD(float, warp, Always)                              // domain warp, warp cells
+CG_MODEL_FIELD(float, warp_frequency, Always)                    // warp cells per scene unit
+CG_MODEL_FIELD(vec3, warp_offset, Always)                        // wrapped, in warp lattice units
 CG_MODEL_FIELD(float, turret_influence, Always)
 CG_MODEL_FIELD(float, turret_frequency, Always)                  // turret cells per scene unit (x, y)
 CG_MODEL_FIELD(vec3, turret_offset, Always)                      // wrapped, in turret lattice units

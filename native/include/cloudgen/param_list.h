@@ -78,6 +78,11 @@ CG_PARAM(STRETCH, "stretch", "Stretch", "Cloud Noise", Float, (0.0f), 0.0f, 50.0
          "Stretches the texture along the box's x axis by 1 + this: fibres and streaks.")
 CG_PARAM(SHEAR, "shear", "Shear", "Cloud Noise", Float, (0.0f), -10.0f, 10.0f, -2.0f, 2.0f, 0, 1,
          "x shift per unit of height", "Slants the texture along x with height: fall streaks, hooks, sheared tops.")
+CG_PARAM(WARP, "warp", "Warp", "Cloud Noise", Float, (0.0f), 0.0f, 4.0f, 0.0f, 1.0f, 0, 1, "warp cells",
+         "Bends the whole texture with a large, smooth noise: curved fibres and hooks, irregular billows (the "
+         "displacement in warp cells).")
+CG_PARAM(WARP_SCALE, "warp_scale", "Warp Size", "Cloud Noise", Float, (8.0f), 1.0f, 64.0f, 1.0f, 32.0f, 0, 1,
+         "Worley cells", "Size of a warp cell in Worley cells: how far apart the bends are.")
 CG_PARAM(SEED, "seed", "Seed", "Cloud Noise", Int, (0), 0, 1000000, 0, 1000, 0, 1,
          "", "Variation: a different seed gives a different cloud of the same kind.")
 CG_PARAM(WIND_STRENGTH, "wind_strength", "Wind Strength", "Animation", Float, (0.0f), 0.0f, 100.0f, 0.0f, 1.0f, 0, 1,

@@ -379,9 +379,9 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
     L.y[i] = L.y[n - 1];
     L.z[i] = L.z[n - 1];
   }
-  // cg_noise_warp: the point the noise is read at (the lanes' x, y, z are not needed after this)
+  // warped + cg_noise_warp: the point the noise is read at (the lanes' x, y, z are not needed after this)
   for (int i = 0; i < padded; ++i) {
-    const vec3 q = cg_noise_warp(vec3(L.x[i], L.y[i], L.z[i]), m.stretch, m.shear);
+    const vec3 q = cg_noise_warp(warped(m, vec3(L.x[i], L.y[i], L.z[i])), m.stretch, m.shear);
     L.x[i] = q[0];
     L.y[i] = q[1];
     L.z[i] = q[2];

@@ -51,6 +51,11 @@ CG_NAMESPACE_BEGIN
 #define CG_TURRET_SCALE_MAX CG_FLOAT(10000.0)
 #define CG_TURRET_ASPECT CG_FLOAT(0.5) /* turret cells are 1 / 0.5 = 2 times taller than wide */
 #define CG_SEED_SALT_TURRET 374761393
+#define CG_WARP_LIMIT CG_FLOAT(100.0) /* kernel clamp of Warp, in warp cells */
+#define CG_WARP_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Warp Size, in Worley cells */
+#define CG_WARP_SCALE_MAX CG_FLOAT(10000.0)
+#define CG_SEED_SALT_WARP_X 668265263
+#define CG_SEED_SALT_WARP_Y 1013904223
 
 /* ---------------------------------------------------------------- shape --- */
 
@@ -251,6 +256,26 @@ CG_FN CG_VEC3 cg_noise_warp(CG_VEC3 p, float stretch, float shear) {
   float sh = clamp(shear, -CG_SHEAR_LIMIT, CG_SHEAR_LIMIT);
   if (st > 0 || sh != 0) return CG_VEC3(p[0] / (1 + st) + sh * p[2], p[1], p[2]);
   return p;
+}
+
+/* Warp lattice cells per scene unit: one warp cell spans Warp Size Worley cells. */
+CG_FN float cg_warp_frequency(float worley_frequency, float warp_scale) {
+  return worley_frequency / clamp(warp_scale, CG_WARP_SCALE_MIN, CG_WARP_SCALE_MAX);
+}
+
+/* The domain warp: p moved horizontally by Warp warp cells times two single-octave gradient
+ * noises of the warp lattice (each in [-1, 1]; `pw` is p in warp lattice units with its
+ * wrapped offset, `w` the 4th coordinate). A smooth displacement a few times larger than the
+ * billows bends every feature: curved fibres and hooks (cirrus), irregular lobes. Applied
+ * before Stretch and Shear, so a fibre stretched along x waves across y. The identity at
+ * Warp 0. */
+CG_FN CG_VEC3 cg_domain_warp(CG_VEC3 p, float warp, float fwarp, CG_VEC3 pw, float w, int seed) {
+  float a = clamp(warp, -CG_WARP_LIMIT, CG_WARP_LIMIT);
+  if (a == 0) return p;
+  float s = a / clamp(fwarp, CG_FLOAT(1.0e-6), CG_FLOAT(1.0e6));
+  float dx = cg_perlin4(pw[0], pw[1], pw[2], w, seed ^ CG_SEED_SALT_WARP_X);
+  float dy = cg_perlin4(pw[0], pw[1], pw[2], w, seed ^ CG_SEED_SALT_WARP_Y);
+  return CG_VEC3(p[0] + s * dx, p[1] + s * dy, p[2]);
 }
 
 /* Turret lattice cells per scene unit (horizontally): Turret Size Worley cells per turret. */
