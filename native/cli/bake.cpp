@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -40,7 +41,7 @@ const char* const kBakeHelp =
     "                     [--resolution N] [--quality draft|preview|final] [--camera CAMERA.json]\n"
     "                     [--time T] [--frames A-B [--fps F]] [--update] [--tolerance X] [--no-skip]\n"
     "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet] [--json]\n"
-    "                     [--brick I/N] [--dry-run]\n"
+    "                     [--brick I/N] [--ring INNER[,OUTER]] [--dry-run]\n"
     "\n"
     "Evaluates the cloud density on a voxel grid over the cloud box and writes it\n"
     "as an OpenVDB file: one float grid named `density`, class fog volume,\n"
@@ -77,6 +78,10 @@ const char* const kBakeHelp =
     "  --brick I/N         bake only brick I (0-based) of N: the I-th of N contiguous ranges of\n"
     "                      the grid's 8^3 tiles (one frame only); `cloudgen merge` joins the N\n"
     "                      bricks into the whole bake (the distributed runner does this)\n"
+    "  --ring IN[,OUT]     bake only the square ring IN <= max(|x|,|y|) < OUT of the horizontal\n"
+    "                      plane (cloud frame, scene units; one voxel of margin each side; no OUT:\n"
+    "                      no outer limit), 0 <= IN < OUT: a level of a nested bake of a layer\n"
+    "                      whose inner levels cover the hole (docs/camera.md)\n"
     "  --dry-run           check everything and print the plan (files, grid, keys), write nothing\n"
     "  --json              machine-readable output: one JSON object per line on stdout\n"
     "                      (plan, camera, frame, progress, wrote, copied, kept, error;\n"
@@ -169,6 +174,23 @@ void copy_atomically(const std::string& from, const std::string& to) {
   file.commit();
 }
 
+// --ring INNER[,OUTER] into the options, compared as the floats the bake uses
+// (1,1.00000001 is no ring); false unless 0 <= INNER < OUTER <= 1e30.
+bool parse_ring(const std::string& spec, cg::BakeOptions& o) {
+  const auto number = [](const std::string& s) -> std::optional<float> {
+    const auto v = parse_number(s);  // finite, or nullopt
+    return v && std::fabs(*v) <= 1e30 ? std::optional<float>(static_cast<float>(*v)) : std::nullopt;
+  };
+  const auto comma = spec.find(',');
+  const auto inner = number(spec.substr(0, comma));
+  const auto outer = comma == std::string::npos ? std::optional<float>(std::numeric_limits<float>::infinity())
+                                                : number(spec.substr(comma + 1));
+  if (!inner || !outer || !(*inner >= 0.0f && *outer > *inner)) return false;
+  o.ring_inner = *inner;
+  o.ring_outer = *outer;
+  return true;
+}
+
 }  // namespace
 
 int cmd_bake(const std::vector<std::string>& argv) {
@@ -179,7 +201,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
                         {"--frames", true},     {"--fps", true},     {"--update", false},  {"--tolerance", true},
                         {"--no-skip", false},   {"--no-lod", false}, {"--threads", true},  {"--half", false},
                         {"--max-memory", true}, {"--quiet", false},  {"--json", false},    {"--brick", true},
-                        {"--dry-run", false}});
+                        {"--ring", true},       {"--dry-run", false}});
   if (a.help()) return std::cout << kBakeHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
 
@@ -231,6 +253,10 @@ int cmd_bake(const std::vector<std::string>& argv) {
     opts.brick_index = static_cast<int>(*i);
     opts.brick_count = static_cast<int>(*n);
   }
+  if (a.has("--ring") && !parse_ring(*a.get("--ring"), opts))
+    throw UsageError(
+        "--ring must be INNER or INNER,OUTER with numbers 0 <= INNER < OUTER <= 1e30 (scene units); got '" +
+        clipped(*a.get("--ring"), 40) + "'");
   opts.skip_empty = !a.has("--no-skip");
   if (a.has("--no-lod")) opts.lod = false;
   const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
@@ -313,19 +339,22 @@ int cmd_bake(const std::vector<std::string>& argv) {
                        {"key", plan[fi].key}});
     const double gib = double(cg::estimate_bake_bytes(first.model, first.opts)) / double(1ull << 30);
     const int threads = cg::resolve_threads(opts.threads);
-    char human[300];
-    std::snprintf(human, sizeof human, "bake: %s, %dx%dx%d voxels of %g, estimated memory <= %.3f GiB, %d thread(s)",
+    char ring[100] = "";
+    if (opts.has_ring()) std::snprintf(ring, sizeof ring, ", ring [%g, %g)", opts.ring_inner, opts.ring_outer);
+    char human[400];
+    std::snprintf(human, sizeof human, "bake: %s, %dx%dx%d voxels of %g%s, estimated memory <= %.3f GiB, %d thread(s)",
                   preset.empty() ? "parameters" : preset.c_str(), first.grid.n[0], first.grid.n[1], first.grid.n[2],
-                  first.grid.voxel, gib, threads);
-    emit("plan",
-         {{"protocol", cg::kProtocolVersion},
-          {"files", files},
-          {"grid", {first.grid.n[0], first.grid.n[1], first.grid.n[2]}},
-          {"voxel", first.grid.voxel},
-          {"memory_gib", gib},
-          {"threads", threads},
-          {"preset", preset.empty() ? Fields() : Fields(preset)}},
-         quiet ? "" : human);
+                  first.grid.voxel, ring, gib, threads);
+    Fields plan_fields = {{"protocol", cg::kProtocolVersion},
+                          {"files", files},
+                          {"grid", {first.grid.n[0], first.grid.n[1], first.grid.n[2]}},
+                          {"voxel", first.grid.voxel},
+                          {"memory_gib", gib},
+                          {"threads", threads},
+                          {"preset", preset.empty() ? Fields() : Fields(preset)}};
+    if (opts.has_ring())  // [inner, outer], outer null when unlimited
+      plan_fields["ring"] = {opts.ring_inner, std::isinf(opts.ring_outer) ? Fields() : Fields(opts.ring_outer)};
+    emit("plan", plan_fields, quiet ? "" : human);
     if (opts.brick_count > 1) {
       cg::BakeOptions whole = first.opts;
       whole.brick_index = 0, whole.brick_count = 1;

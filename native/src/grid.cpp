@@ -58,16 +58,31 @@ float tile_bound(const Model& m, const GridSpec& g, const TileRange& r) {
 
 std::int64_t tile_count(const GridSpec& g) { return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2); }
 
-// Outside the camera region: the tile's voxels, widened by one voxel (their
-// trilinear footprint), lie wholly outside a plane of the frustum.
+// The box [lo, hi] lies wholly in the ring's hole (max(|x|, |y|) < inner
+// everywhere) or wholly outside its outer square (>= outer everywhere).
+bool box_outside_ring(const BakeOptions& o, const vec3& lo, const vec3& hi) {
+  const float farthest = std::max({-lo[0], hi[0], -lo[1], hi[1]});
+  const float nearest = std::max({lo[0], -hi[0], lo[1], -hi[1], 0.0f});
+  return farthest < o.ring_inner || nearest >= o.ring_outer;
+}
+
+// The voxel centre p is in the ring, widened by one voxel on either side.
+bool in_ring(const BakeOptions& o, float voxel, const vec3& p) {
+  const float c = std::max(std::fabs(p[0]), std::fabs(p[1]));
+  return c >= o.ring_inner - voxel && c < o.ring_outer + voxel;
+}
+
+// Outside the camera region or the ring: the tile's voxels, widened by one
+// voxel (their trilinear footprint), lie wholly outside a plane of the frustum,
+// wholly in the ring's hole or wholly beyond its outer square.
 bool tile_culled(const BakeOptions& o, const GridSpec& g, const TileRange& r) {
-  if (!o.use_region) return false;
+  if (!o.use_region && !o.has_ring()) return false;
   vec3 lo, hi;
   for (int a = 0; a < 3; ++a) {
     lo[a] = g.origin[a] + float(r.lo[a] - 1) * g.voxel;
     hi[a] = g.origin[a] + float(r.hi[a] + 1) * g.voxel;
   }
-  return box_outside(o.region, lo, hi);
+  return (o.use_region && box_outside(o.region, lo, hi)) || (o.has_ring() && box_outside_ring(o, lo, hi));
 }
 
 }  // namespace
@@ -86,7 +101,7 @@ std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
   // Counting candidates one by one is cheap (no noise) up to ~10^8 tiles;
   // beyond that the worst case (every tile of the brick) is the estimate.
   double candidates = std::ceil(total_tiles / double(std::max(o.brick_count, 1)));
-  if ((o.skip_empty || o.use_region) && total_tiles <= double(std::int64_t(1) << 27)) {
+  if ((o.skip_empty || o.use_region || o.has_ring()) && total_tiles <= double(std::int64_t(1) << 27)) {
     const TileSpan span = brick_tiles(tile_count(g), o);
     candidates = 0;
     for (std::int64_t t = span.first; t < span.last; ++t) {
@@ -107,6 +122,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
   result.grid = bake_grid(m, o);
   const GridSpec& g = result.grid;
   const Lod lod = o.lod ? lod_for_footprint(m, g.voxel) : kNoLod;
+  const bool ring = o.has_ring();
   result.stats.lod_worley_octaves = lod.worley_octaves;
   result.stats.lod_perlin_octaves = lod.perlin_octaves;
 
@@ -147,8 +163,9 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     for (int k = r.lo[2]; k < r.hi[2]; ++k)
       for (int j = r.lo[1]; j < r.hi[1]; ++j)
         for (int i = r.lo[0]; i < r.hi[0]; ++i) {
-          float d = values[q++];
-          if (d <= o.tolerance) d = 0.0f;
+          float d = values[q];
+          if (d <= o.tolerance || (ring && !in_ring(o, g.voxel, points[q]))) d = 0.0f;
+          ++q;
           active += d > 0.0f;
           tile.values[((k - r.lo[2]) * kTile + (j - r.lo[1])) * kTile + (i - r.lo[0])] = d;
         }

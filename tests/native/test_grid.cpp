@@ -1,15 +1,18 @@
 // test_grid.cpp — the voxel grid (grid.h): sparse bake == dense bake (skip
-// correctness), the region bound, grid_for_box, slices, LOD, cancellation and
-// the memory estimate.
+// correctness), the region bound, grid_for_box, slices, LOD, cancellation,
+// the memory estimate and the ring of a nested bake.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "cloudgen/field_key.h"
 #include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
@@ -350,6 +353,108 @@ TEST(Grid, EstimateGrowsWithResolutionAndCoversTheTiles) {
       EXPECT_GE(cg::estimate_bake_bytes(m, o), e) << "skip_empty = false is the worst case";
     }
   }
+}
+
+// A flat layer, 40 x 30 x 1.5, reaching the box's sides (a deck baked as nested rings).
+cg::Params layer() {
+  cg::Params p;
+  p.set(cg::SHEET, 1.0f);
+  p.set(cg::SHAPE_MODE, 1.0f);
+  const float box[3] = {40, 30, 1.5f};
+  p.set(cg::BOX_SIZE, box, 3);
+  return p;
+}
+
+TEST(Grid, RingBakeEqualsTheWholeBakeInTheRingAndIsEmptyElsewhere) {
+  // Tolerance 0: with c = max(|x|, |y|) of a voxel centre, every voxel with
+  // inner - voxel <= c < outer + voxel equals the whole bake's bit for bit (same grid,
+  // same LOD), every other voxel is 0; tiles whose footprint widened by a voxel lies
+  // wholly in the hole or beyond the outer square are culled (never evaluated), and the
+  // memory estimate counts exactly the tiles the bake evaluates.
+  const cg::Model m = cg::prepare(layer());
+  cg::BakeOptions whole;
+  whole.resolution = 96;  // voxel 40/96, 96x72x4 voxels, 12x9x1 tiles of 3.33 x 3.33
+  whole.threads = 2;
+  const cg::BakeResult a = cg::bake(m, whole);
+  const std::vector<float> da = to_dense(a);
+  const std::int64_t est_whole = cg::estimate_bake_bytes(m, whole);
+  const float inf = std::numeric_limits<float>::infinity();
+  // A ring, an open ring (no outer limit), a disc (no hole), a ring thinner than 2 voxels, and
+  // two whose bounds lie just beyond a tile's edge (|y| = 5), so that the tile is culled unless
+  // it is widened by a voxel, yet holds voxels of the margin (centres at |y| = 4.79 and 5.21).
+  const float rings[][2] = {{6, 14}, {6, inf}, {0, 9}, {2.5f, 3}, {5.2f, 12}, {0.5f, 4.8f}};
+  for (const auto& ring : rings) {
+    cg::BakeOptions o = whole;
+    o.ring_inner = ring[0];
+    o.ring_outer = ring[1];
+    std::ostringstream what_text;
+    what_text << "ring [" << ring[0] << ", " << ring[1] << ")";
+    const std::string what = what_text.str();
+    const cg::BakeResult b = cg::bake(m, o);
+    const cg::GridSpec& g = b.grid;
+    ASSERT_EQ(g.voxel, a.grid.voxel) << what;
+    const std::vector<float> db = to_dense(b);
+    ASSERT_EQ(db.size(), da.size());
+    std::int64_t in_ring = 0, outside = 0;
+    for (int k = 0; k < g.n[2]; ++k)
+      for (int j = 0; j < g.n[1]; ++j)
+        for (int i = 0; i < g.n[0]; ++i) {
+          const std::size_t q = (std::size_t(k) * g.n[1] + j) * g.n[0] + i;
+          const vec3 p = g.centre(i, j, k);
+          const float c = std::max(std::fabs(p[0]), std::fabs(p[1]));
+          const bool kept = c >= ring[0] - g.voxel && c < ring[1] + g.voxel;
+          ASSERT_EQ(db[q], kept ? da[q] : 0.0f)
+              << what << ": voxel (" << i << ", " << j << ", " << k << ") at " << cgtest::str(p) << " c " << c
+              << " voxel " << g.voxel << (kept ? " in the ring" : " outside the ring") << ", whole bake " << da[q];
+          (kept ? in_ring : outside) += da[q] > 0.0f;
+        }
+    EXPECT_GT(in_ring, 0) << what << ": no cloud in the ring";
+    EXPECT_GT(outside, 0) << what << ": no cloud outside the ring, nothing was dropped";
+    EXPECT_EQ(b.stats.voxels_active, in_ring) << what;
+    EXPECT_GT(b.stats.tiles_culled, 0) << what << ": no tile culled";
+    EXPECT_LT(b.stats.tiles_evaluated, a.stats.tiles_evaluated) << what;
+    EXPECT_EQ(b.stats.tiles_culled + b.stats.tiles_skipped + b.stats.tiles_evaluated, b.stats.tiles_total) << what;
+    const std::int64_t est = cg::estimate_bake_bytes(m, o);
+    EXPECT_LE(est, est_whole) << what;
+    // Exact: the estimate is a fixed size per tile it counts, and it counts the evaluated tiles.
+    EXPECT_EQ(est * a.stats.tiles_evaluated, est_whole * b.stats.tiles_evaluated) << what;
+    EXPECT_NE(cg::bake_key(m, o, false), cg::bake_key(m, whole, false)) << what;
+    std::cout << "[ figures  ] " << what << " at 96: tiles culled " << b.stats.tiles_culled << ", evaluated "
+              << b.stats.tiles_evaluated << " (whole bake " << a.stats.tiles_evaluated << " of " << a.stats.tiles_total
+              << "), active voxels " << b.stats.voxels_active << " of " << a.stats.voxels_active << "\n";
+  }
+  // The hole of [6, 14): 2 x 3 tiles (x in [-3.33, 3.33], y in [-5, 5], widened by 0.42 < 6).
+  cg::BakeOptions o = whole;
+  o.ring_inner = 6;
+  EXPECT_EQ(cg::bake(m, o).stats.tiles_culled, 6) << "the open ring [6, inf) culls the 2 x 3 tiles of its hole";
+}
+
+TEST(Grid, DefaultRingIsNoRing) {
+  // The default options bake what they baked before the ring existed: no ring, the same key
+  // as an explicit (0, +inf), and a ring enclosing the whole box keeps every voxel
+  // (tolerance 0) and culls nothing, under another key.
+  const cg::Model m = cg::prepare(cumulus());
+  cg::BakeOptions d;
+  d.resolution = 32;
+  d.threads = 2;
+  EXPECT_FALSE(d.has_ring());
+  EXPECT_EQ(d.ring_inner, 0.0f);
+  EXPECT_EQ(d.ring_outer, std::numeric_limits<float>::infinity());
+  cg::BakeOptions wide = d;
+  wide.ring_outer = 100.0f;  // the 4 x 4 box lies within max(|x|, |y|) <= 2
+  ASSERT_TRUE(wide.has_ring());
+  const cg::BakeResult a = cg::bake(m, d), b = cg::bake(m, wide);
+  EXPECT_EQ(a.stats.tiles_culled, 0);
+  EXPECT_EQ(b.stats.tiles_culled, 0);
+  EXPECT_EQ(b.stats.voxels_active, a.stats.voxels_active);
+  ASSERT_EQ(a.tiles.size(), b.tiles.size());
+  for (std::size_t t = 0; t < a.tiles.size(); ++t) {
+    ASSERT_EQ(a.tiles[t].index, b.tiles[t].index) << "tile " << t;
+    ASSERT_EQ(0, std::memcmp(a.tiles[t].values.data(), b.tiles[t].values.data(), sizeof a.tiles[t].values))
+        << "tile " << t;
+  }
+  EXPECT_EQ(cg::estimate_bake_bytes(m, wide), cg::estimate_bake_bytes(m, d));
+  EXPECT_NE(cg::bake_key(m, wide, false), cg::bake_key(m, d, false)) << "a ring bake must never match a plain one";
 }
 
 }  // namespace

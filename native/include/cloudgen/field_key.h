@@ -24,8 +24,8 @@ std::string field_key(const Model& m);
 std::string field_key(const Params& p);
 
 // The key of a bake's voxels: the field key, then a hash of what else decides
-// them — the grid, LOD, drop tolerance, storage precision (`half`) and the
-// camera region. Stored in the VDB; `bake --update` compares it.
+// them — the grid, LOD, drop tolerance, storage precision (`half`), the
+// camera region and the ring. Stored in the VDB; `bake --update` compares it.
 std::string bake_key(const Model& m, const BakeOptions& options, bool half);
 
 }  // namespace cg

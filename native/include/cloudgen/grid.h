@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "cloudgen/camera.h"
@@ -55,6 +56,15 @@ struct BakeOptions {
   // and their tiles together are the whole bake's, value for value.
   int brick_index = 0;
   int brick_count = 1;
+  // A square ring of the horizontal plane (one level of a nested bake of a
+  // layer, docs/camera.md): with c = max(|x|, |y|) of a voxel centre in the
+  // cloud's frame, only voxels with ring_inner - voxel <= c < ring_outer + voxel
+  // hold density (one voxel of margin for trilinear reads at the ring's edges),
+  // and tiles whose footprint widened by a voxel lies wholly in the hole or
+  // wholly outside are culled. The default (0, +inf) bakes everything.
+  float ring_inner = 0.0f;
+  float ring_outer = std::numeric_limits<float>::infinity();
+  bool has_ring() const { return ring_inner > 0.0f || ring_outer < std::numeric_limits<float>::infinity(); }
 };
 
 // Tile index range [first, last) of the options' brick, of `total` tiles.
