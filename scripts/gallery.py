@@ -57,14 +57,15 @@ def parse_args(argv):
     return ap.parse_args(argv)
 
 
-def bake(name, values, out_vdb, resolution):
+def bake(name, values, out_vdb, resolution, ring=None):
     """`cloudgen bake` of these values to out_vdb, unless a file with the same bake key is
-    there (--update)."""
+    there (--update); ring (inner, outer or None): only that square ring (--ring)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
     try:
         subprocess.run([str(ROOT / "build" / "bin" / "cloudgen"), "bake", "--params", f.name, "--resolution",
-                        str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"],
+                        str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"]
+                       + (["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")] if ring else []),
                        check=True)
     finally:
         os.remove(f.name)
@@ -80,7 +81,8 @@ def bake_all(name, values, work, args):
     if gs.is_layer(values["box_size"]):
         levels = []
         for k, (lv, res, inner, outer) in enumerate(gs.layer_levels(name, values, w)):
-            levels.append((bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res), inner, outer))
+            path = bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res, ring=(inner, outer))
+            levels.append((path, inner, outer))
         return {"levels": levels}
     out = {"main": bake(name, values, os.path.join(work, f"{name}.vdb"), args.resolution), "companions": []}
     if name in gs.COMPANIONS:

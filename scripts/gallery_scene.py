@@ -85,7 +85,8 @@ def compact_view(name, values, view, width, height):
     tx, ty = tans(SIDE_LENS, width, height)
     pitch = pitch_for_horizon(ty)
     top_elevation = math.radians(pitch) + math.atan((2 * MAIN_TOP_FROM_BOTTOM - 1) * ty)
-    d = max(top / math.tan(top_elevation), 1.2 * max(bx, by))
+    # the near side of the box (half its depth nearer than the centre) is what reaches highest
+    d = max(top / math.tan(top_elevation) + by / 2, 1.2 * max(bx, by))
     return (0.0, d, centre_z), (0.0, 0.0, EYE), pitch, SIDE_LENS
 
 
