@@ -52,11 +52,13 @@ def parameter_sets():
     sets["wind_time"] = {"preset": "cumulus", "wind_strength": 2.0, "wind_direction": [1.0, 0.5, 0.2],
                          "time": 7.5, "evolution": 0.3, "stationary": 0.5, "object_location": [3.0, -2.0, 1.0]}
     sets["wave"] = {"wave": 0.7, "worley_influence": 1.0}
-    # the shape terms beyond the thesis (docs/model.md 4.1) and the noise warp and turrets
+    # the shape terms beyond the thesis (docs/model.md 4.1), Stretch, Shear, Warp and the turrets
     sets["shape_terms"] = {"preset": "cumulus", "edge_sharpness": 0.7, "base_height": 0.1, "top_height": 0.85,
-                           "lean": 0.4, "turret_influence": 0.5, "turret_scale": 2.5, "stretch": 1.5, "shear": 0.4}
+                           "lean": 0.4, "turret_influence": 0.5, "turret_scale": 2.5, "stretch": 1.5, "shear": 0.4,
+                           "warp": 0.6, "warp_scale": 4.0}
     sets["sheet_curve"] = {"sheet": 1.0, "shape_mode": 1, "box_size": [30.0, 24.0, 1.5], "edge_sharpness": 0.5,
-                           "base_height": 0.2, "lean": -0.5, "stretch": 6.0, "shear": -1.2}
+                           "base_height": 0.2, "lean": -0.5, "stretch": 6.0, "shear": -1.2, "warp": 1.0,
+                           "warp_scale": 8.0}
     sets["sliders_0"] = sliders(0.0) | {"density": 1.0}
     sets["sliders_1"] = sliders(1.0)
     sets["far_1e5"] = {"preset": "cumulus", "stationary": 0.0, "object_location": [1e5, 1e5, 0.0]}
