@@ -196,6 +196,8 @@ def make_sun(scene, elevation_deg: float, rotation_deg: float):
     obj.data.energy = peak
     obj.data.angle = math.radians(SUN_ANGLE_DEG)
     obj.rotation_euler = sun_direction(elevation_deg, rotation_deg).to_track_quat("Z", "Y").to_euler()
+    if hasattr(obj, "visible_camera"):  # the disc itself in shot (Blender leaves a new sun lamp unseen)
+        obj.visible_camera = True
     return obj
 
 

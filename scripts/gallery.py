@@ -39,6 +39,9 @@ sys.path.insert(0, str(ROOT / "osl"))
 import gallery_scene as gs  # noqa: E402
 
 SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
+# veils are told apart by the sun seen through them ("as through ground glass", altostratus; a
+# milky veil the sun shines through, cirrostratus): their view from below looks toward the sun
+SUN_IN_VIEW = {"altostratus": (50.0, 0.0), "cirrostratus": (50.0, 0.0)}
 
 
 def parse_args(argv):
@@ -146,7 +149,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         elevation = math.degrees(math.atan2(rel.z, math.hypot(rel.x, rel.y)))
         sl.daylight(scene, elevation, 0.0)
     else:
-        elevation, azimuth = SUNS[sun]
+        elevation, azimuth = SUN_IN_VIEW[name] if view == "below" and name in SUN_IN_VIEW else SUNS[sun]
         sl.daylight(scene, elevation, azimuth)
     render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")

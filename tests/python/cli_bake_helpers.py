@@ -9,8 +9,10 @@ from test_cli import REPO_ROOT, TIMEOUT, events, info_json
 from test_cli import run as run_cli
 
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
-CUMULUS_BOX = (4.0, 4.0, 3.0)  # cumulus preset box_size: origin at the centre, x/y in [-2, 2], z in [-1.5, 1.5]
-LONGEST = 4.0
+# the cumulus preset's box_size (origin at the centre), from the one declaration of the presets
+CUMULUS_BOX = tuple(json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())
+                    ["cumulus"]["params"]["box_size"])
+LONGEST = max(CUMULUS_BOX)
 
 # camera_to_cloud of a camera at (0, y, 0) rotated X = +90 degrees (Blender convention):
 # camera -Z maps to cloud +y (looks along +y), camera +Y to cloud +z (up).
