@@ -9,9 +9,10 @@ from test_cli import REPO_ROOT, TIMEOUT, events, info_json
 from test_cli import run as run_cli
 
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
-# the cumulus preset's box_size (origin at the centre), from the one declaration of the presets
-CUMULUS_BOX = tuple(json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())
-                    ["cumulus"]["params"]["box_size"])
+# the cumulus preset's box_size (origin at the centre) and Density, from the one declaration of the presets
+_CUMULUS = json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())["cumulus"]["params"]
+CUMULUS_BOX = tuple(_CUMULUS["box_size"])
+CUMULUS_DENSITY = _CUMULUS["density"]
 LONGEST = max(CUMULUS_BOX)
 
 # camera_to_cloud of a camera at (0, y, 0) rotated X = +90 degrees (Blender convention):

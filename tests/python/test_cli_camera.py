@@ -5,7 +5,7 @@ tolerance; failures print the inputs."""
 
 import numpy as np
 import pytest
-from cli_bake_helpers import CUMULUS_BOX, LONGEST, NARROW, camera_lines, grid, looking_along_y, run
+from cli_bake_helpers import CUMULUS_BOX, CUMULUS_DENSITY, LONGEST, NARROW, camera_lines, grid, looking_along_y, run
 from test_cli import expect_usage_error, listing
 from vdb_voxels import read_voxels
 
@@ -29,12 +29,12 @@ def test_camera_voxel_is_the_pixel_footprint_at_the_nearest_depth(fov, res, inpu
     expected_depth = 6.0
     expected_fp = 2 * expected_depth * min(fov[0] / res[0], fov[1] / res[1])
     # Default margin (camera.h): 16 / peak extinction, extinction = Density x 20 per unit,
-    # at most the longest side: min(16 / (0.5 * 20), 4) = 1.6.
+    # at most the longest side (the cumulus: min(16 / (0.8 * 20), 4) = 1.0).
     rel = 1e-3  # the lines print 6 significant digits; float32 arithmetic inside
     assert depth == pytest.approx(expected_depth, rel=rel), (cam, r.stdout)
     assert footprint == pytest.approx(expected_fp, rel=rel), (cam, r.stdout)
     assert fit_voxel == pytest.approx(expected_fp, rel=rel) and voxel == pytest.approx(expected_fp, rel=rel)
-    assert margin == pytest.approx(1.6, rel=rel), r.stdout
+    assert margin == pytest.approx(min(16 / (CUMULUS_DENSITY * 20), LONGEST), rel=rel), r.stdout
     assert 0 < visible <= total
     g = grid(out)
     assert g["voxel_size"] == pytest.approx([expected_fp] * 3, rel=rel), (cam, g["voxel_size"])
@@ -138,10 +138,13 @@ def test_lod_bake_equals_module_density_with_footprint(out_dir):
     vox, _, _ = read_voxels(out)
     coords = np.array(sorted(vox), dtype=np.float32)
     values = np.array([vox[tuple(int(v) for v in c)] for c in coords], dtype=np.float32)
-    v = np.float32(0.125)
-    corner = -np.array(CUMULUS_BOX, dtype=np.float32) / np.float32(2)
+    v = np.float32(LONGEST / 32)
+    # the grid is centred on the box and may overhang a shorter side by less than a voxel:
+    # n = ceil(box / voxel - 1e-4) voxels per axis (grid_for_voxel), origin -n * voxel / 2
+    n = np.ceil(np.array(CUMULUS_BOX, dtype=np.float64) / float(v) - 1e-4).astype(np.float32)
+    corner = np.float32(-0.5) * n * v
     centres = (coords * v + corner + v / np.float32(2)).astype(np.float32)
-    got = cn.density({"preset": "cumulus"}, centres, footprint=0.125)
+    got = cn.density({"preset": "cumulus"}, centres, footprint=float(v))
     bad = np.flatnonzero(got != values)
     assert bad.size == 0, [(coords[i].tolist(), float(values[i]), float(got[i])) for i in bad[:5]]
 

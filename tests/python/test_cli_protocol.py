@@ -7,7 +7,7 @@ import json
 
 import cloudgen_native as cn
 import pytest
-from test_cli import cli_events, events, listing, run
+from test_cli import REPO_ROOT, cli_events, events, listing, run
 
 
 def test_version_names_the_protocol_and_matches_the_module():
@@ -69,7 +69,9 @@ def test_preview_json(out_dir):
     assert r.returncode == 0, r.stderr
     (line,) = r.stdout.splitlines()
     e = cli_events.parse(line)
-    assert e["event"] == "wrote" and e["path"] == str(out_dir / "p.png") and e["size"] == [32, 24], e
+    box = json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())["cumulus"]["params"]["box_size"]
+    height = round(32 * box[2] / box[0])  # the box face's aspect (x, z) for axis y
+    assert e["event"] == "wrote" and e["path"] == str(out_dir / "p.png") and e["size"] == [32, height], e
 
 
 # The naming rule (docs/cli_protocol.md): the LAST run of '#' is the zero-padded frame.
