@@ -192,8 +192,9 @@ def layer_view(name, values, view, width, height):
 
 
 def haze_top(name) -> float:
-    """The haze's top, scene units: 1 km, or below a low cloud's base."""
-    return min(km(1.0), 0.8 * km(BASE_KM.get(name, 1.2)))
+    """The haze's top, scene units: the Landscape option's rule (addon/light_setup.py) — its
+    default height, or 80 % of a lower cloud base."""
+    return min(km(0.8), 0.8 * km(BASE_KM.get(name, 1.2)))
 
 
 # ------------------------------------------------------------------ Blender objects ---

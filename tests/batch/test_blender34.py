@@ -251,3 +251,53 @@ def test_default_scene_cloud_renders_on_a_farm(env, tmp_path):
     assert "OpenImageDenoiser" not in render.stdout + render.stderr
     lit = float((load_rgb(tmp_path / "f_0001.png").max(axis=-1) > 0.02).mean())
     assert lit > 0.01, f"only {lit:.2%} of the frame is lit"
+
+
+LANDSCAPE_SETUP = """
+import sys, math, bpy, addon_utils
+addon_utils.enable("cloudgen", default_set=False)
+bpy.ops.wm.read_homefile()  # Debian's default scene: its camera looks down at the origin
+bpy.data.objects.remove(bpy.data.objects["Cube"])
+bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])
+assert bpy.ops.cloudgen.add_cloud(cloud_type="cumulus") == {"FINISHED"}
+cloud = bpy.context.view_layer.objects.active
+cloud.location = (0.0, 40.0, 6.0)  # a cumulus 10 km away, its base 1.2 km up
+assert bpy.ops.cloudgen.bake_vdb(resolution=48) == {"FINISHED"}
+cam = bpy.context.scene.camera
+cam.location, cam.rotation_euler = (0.0, 0.0, 0.017), (math.radians(100.0), 0.0, 0.0)
+cam.data.clip_end = 1.0e5
+assert bpy.ops.cloudgen.sky_setup(sun_elevation=30.0, landscape=True) == {"FINISHED"}
+sc = bpy.context.scene
+print("LOOK", sc.view_settings.view_transform, sc.view_settings.look)
+sc.render.resolution_x, sc.render.resolution_y, sc.cycles.samples = 80, 45, 16
+bpy.ops.wm.save_mainfile()
+"""
+
+
+def test_landscape_in_34_renders_on_a_farm(env, tmp_path):
+    """Cloud Sky & Sun with Landscape in Debian 3.4 (no white balance there, Filmic's High
+    Contrast look), saved, then `blender -b file -E CYCLES -f 1`: exit 0; the saved file
+    holds the ground and the haze; the sky at the top of the frame is blue (b > r by 10 %),
+    the ground at the bottom is land, not sky (b < r)."""
+    from scene_helpers import load_rgb
+
+    _, e = env
+    blend = tmp_path / "land.blend"
+    script = tmp_path / "setup.py"
+    script.write_text(LANDSCAPE_SETUP)
+    run = subprocess.run([BLENDER, "-b", "--python-exit-code", "1", "--python", str(script), "--", str(blend)],
+                         env=e, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert "LOOK Filmic High Contrast" in run.stdout, run.stdout[-2000:]
+    render = subprocess.run([BLENDER, "-b", "--addons", "cloudgen", str(blend), "-E", "CYCLES",
+                             "-o", str(tmp_path / "f_####"), "-f", "1"], env=e, capture_output=True, text=True,
+                            timeout=900)
+    assert render.returncode == 0, render.stdout[-2000:] + render.stderr[-2000:]
+    img = load_rgb(tmp_path / "f_0001.png")[::-1]  # Blender's rows start at the bottom
+    top, bottom = img[:5].reshape(-1, 3).mean(axis=0), img[-4:].reshape(-1, 3).mean(axis=0)
+    assert top[2] > 1.1 * top[0], f"sky not blue: mean rgb of the top rows {top}"
+    assert bottom[2] < bottom[0], f"no land at the bottom: mean rgb of the bottom rows {bottom}, top {top}"
+    listing = subprocess.run([BLENDER, "-b", str(blend), "--python-expr",
+                              "import bpy; print('OBJECTS', sorted(o.name for o in bpy.data.objects))"],
+                             env=e, capture_output=True, text=True, timeout=300)
+    assert "'Cloud Ground'" in listing.stdout and "'Cloud Haze'" in listing.stdout, listing.stdout[-2000:]
