@@ -16,11 +16,12 @@ is 1 km wide), and so is this landscape:
   (the camera stands there) and rising into hills of up to HILL_KM beyond RISE_KM, features
   FEATURE_KM across; albedo 0.04-0.10, vegetation and fields;
 - haze: a homogeneous box over the ground up to `haze_top` (default HAZE_TOP_KM), extinction
-  from the meteorological visibility (Koschmieder: beta = 3.912 / V), scattering only,
-  mildly forward-peaked (HAZE_ANISOTROPY 0.3: aerosol 0.7 plus the air's own near-isotropic scattering;
-  at 0.6 haze seen with the sun behind the camera rendered darker than the sky it should fade into). A homogeneous volume costs Cycles no
-  stepping; keep its top below the clouds (a cloud inside the haze makes the haze
-  heterogeneous along those rays and slows them).
+  from the meteorological visibility (Koschmieder: beta = 3.912 / V), scattering only, mildly
+  forward-peaked (HAZE_ANISOTROPY 0.3: aerosols' 0.7 plus the air's near-isotropic
+  scattering; at 0.6 the haze, seen with the sun behind the camera, came out darker than the
+  sky it should fade into). A homogeneous volume costs Cycles no stepping; keep its top below
+  the clouds (a cloud inside the haze makes the haze heterogeneous along those rays and
+  slows them).
 """
 import math
 

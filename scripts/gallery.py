@@ -65,10 +65,12 @@ def bake(name, values, out_vdb, resolution, ring=None):
     there (--update); ring (inner, outer or None): only that square ring (--ring)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
+    extra = []
+    if ring:
+        extra = ["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")]
     try:
         subprocess.run([str(ROOT / "build" / "bin" / "cloudgen"), "bake", "--params", f.name, "--resolution",
-                        str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"]
-                       + (["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")] if ring else []),
+                        str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"] + extra,
                        check=True)
     finally:
         os.remove(f.name)

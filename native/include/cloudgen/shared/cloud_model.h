@@ -51,7 +51,7 @@ CG_NAMESPACE_BEGIN
 #define CG_TURRET_SCALE_MAX CG_FLOAT(10000.0)
 #define CG_TURRET_ASPECT CG_FLOAT(0.5) /* turret cells are 1 / 0.5 = 2 times taller than wide */
 #define CG_SEED_SALT_TURRET 374761393
-#define CG_WARP_LIMIT CG_FLOAT(100.0) /* kernel clamp of Warp, in warp cells */
+#define CG_WARP_LIMIT CG_FLOAT(100.0)    /* kernel clamp of Warp, in warp cells */
 #define CG_WARP_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Warp Size, in Worley cells */
 #define CG_WARP_SCALE_MAX CG_FLOAT(10000.0)
 #define CG_SEED_SALT_WARP_X 668265263
