@@ -126,8 +126,10 @@ TEST(Grid, SparseBakeEqualsDenseBake) {
     EXPECT_GT(active, 0) << s.name;
     std::cout << "[ figures  ] " << s.name << " at " << res << ": tiles " << sparse.stats.tiles_total << ", skipped "
               << sparse.stats.tiles_skipped << ", active voxels " << active << "\n";
-    if (s.name == "cumulus") {
-      EXPECT_GT(sparse.stats.tiles_skipped, 0) << "the cumulus should skip some tiles";
+    // The cumulus preset fills its box (a wide, flat-bottomed profile), so at 32 its
+    // corner tiles hold cloud; a small cloud and a raised base leave tiles provably empty.
+    if (s.name == "small cloud_scale" || s.name == "base, top, lean") {
+      EXPECT_GT(sparse.stats.tiles_skipped, 0) << s.name << " should skip some tiles";
     }
   }
 }
