@@ -2,26 +2,25 @@
 daylight (addon/sky_light.py), as a photograph would frame it.
 
 Usage: .venv/bin/python scripts/gallery.py --out docs/gallery [--size 640x360] [--samples 16]
-       [--types cumulus,stratus,...] [--shots side-low,below-high,...] [--resolution 192]
-       [--names FILE.json]
+       [--types cumulus,stratus,...] [--shots side-low,below-high,...] [--resolution 256]
+       [--names FILE.json] [--bake-dir DIR] [--format png|exr]
 
-Each type is baked first (`cloudgen bake`, uniform voxels: --resolution along the box's
-longest side; layers, whose boxes are wide and thin, at --layer-resolution) and its VDB
-rendered in Cycles on the CPU — much faster than the procedural OSL material and the same
-field up to the voxel size. Shots:
+Each type is baked first (`cloudgen bake`; a compact cloud at --resolution voxels along its
+longest side, with a field of companion cumulus; a layer as nested square rings, each with a
+voxel sized from a pixel's footprint: scripts/gallery_scene.py) and rendered in Cycles on the
+CPU. Shots:
 
-  side   side-on toward the horizon, a 35 mm lens at eye height: a compact cloud fills about
-         45 % of the frame width with its base a few degrees above the horizon; a layer is
-         overhead and runs away toward the horizon
-  below  from the ground looking up, a 24 mm lens, pitched 55° up (a compact cloud from
-         beside its base; a layer straight overhead)
-  sun    side-on, the sun low and right behind the cloud's upper edge (silver lining)
+  side   side-on toward the horizon, a 35 mm lens at eye height, the horizon 12 % up the frame
+  below  from the ground looking up, a 24 mm lens pitched 50° up (altostratus and
+         cirrostratus: toward the sun, how veils are told apart)
+  behind side-on, the sun low and right behind the cloud's upper edge (silver lining)
 
-and suns: low (12°, 120° from the view: side-lit from behind the camera), high (60°, 150°).
-The scene: the Nishita sky, the matched sun lamp, AgX, a dull ground plane to the horizon,
-32 volume bounces, OpenImageDenoise where Blender has it. Files are numbered in a shuffled
-order (NN.png, no type in the name) so a reviewer sees no hint; the key is written to
---names (default OUT/key.json). 1 scene unit is read as 250 m for the altitudes below.
+and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°).
+The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
+Landscape (hilly ground, haze), 32 volume bounces, OpenImageDenoise where Blender has it
+(GALLERY_NO_DENOISE=1: off). Files are numbered in a shuffled order (NN.png, no type in the
+name) so a reviewer sees no hint; the key is written to --names (default OUT/key.json).
+1 scene unit is 250 m.
 """
 import argparse
 import json
