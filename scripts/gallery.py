@@ -41,6 +41,9 @@ SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 # veils are told apart by the sun seen through them ("as through ground glass", altostratus; a
 # milky veil the sun shines through, cirrostratus): their view from below looks toward the sun
 SUN_IN_VIEW = {"altostratus": (50.0, 0.0), "cirrostratus": (50.0, 0.0)}
+# a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
+# photographer would choose: one flank sunlit, the other in its own shade
+SIDE_LIT_AZIMUTH = float(os.environ.get("GALLERY_SIDE_AZIMUTH", "90"))
 
 
 def parse_args(argv):
@@ -151,6 +154,8 @@ def shot(name, view, sun, values, baked, out_png, args):
         sl.daylight(scene, elevation, 0.0)
     else:
         elevation, azimuth = SUN_IN_VIEW[name] if view == "below" and name in SUN_IN_VIEW else SUNS[sun]
+        if view == "side" and sun == "low" and "main" in baked:
+            azimuth = SIDE_LIT_AZIMUTH
         sl.daylight(scene, elevation, azimuth)
     render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")

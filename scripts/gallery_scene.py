@@ -30,6 +30,9 @@ COMPANION_SEEDS = 4
 LAYER_RATIO = 0.3
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
+# Textured low decks: this many rings, and no thickness relaxation of the voxel (at 4 rings
+# with it, the stratocumulus's voxel straight overhead was 6 pixels wide: "out of focus")
+FINE_DECKS = {"stratocumulus": 6}
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
@@ -165,13 +168,15 @@ def layer_levels(name, values, width):
     base = km(BASE_KM.get(name, 2.5))
     tan_x = 18.0 / BELOW_LENS
     levels = []
-    for k in range(NESTED_LEVELS):
+    count = FINE_DECKS.get(name, NESTED_LEVELS)
+    for k in range(count):
         size = wide / 2 ** k
-        inner = wide / 2 ** (k + 3) if k < NESTED_LEVELS - 1 else 0.0
+        inner = wide / 2 ** (k + 3) if k < count - 1 else 0.0
         outer = None if k == 0 else wide / 2 ** (k + 2)
         nearest = math.hypot(base, inner)
         voxel = PIXELS_PER_VOXEL * nearest * 2 * tan_x / width
-        voxel = max(voxel, min(box[2] / THICKNESS_VOXELS, 4 * voxel))
+        if name not in FINE_DECKS:
+            voxel = max(voxel, min(box[2] / THICKNESS_VOXELS, 4 * voxel))
         voxel = max(voxel, (size * size * box[2] / MAX_LEVEL_VOXELS) ** (1 / 3))
         res = int(math.ceil(size / voxel))
         lv = dict(values, box_size=[box[0] / 2 ** k, box[1] / 2 ** k, box[2]])
