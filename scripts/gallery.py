@@ -43,7 +43,11 @@ SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 SUN_IN_VIEW = {"altostratus": (50.0, 0.0), "cirrostratus": (50.0, 0.0)}
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
-SIDE_LIT_AZIMUTH = float(os.environ.get("GALLERY_SIDE_AZIMUTH", "90"))
+SIDE_LIT_AZIMUTH = 90.0
+# thin ice layers side-on under the low sun: the sun ahead, 45° right of the view and out of
+# frame, where their forward scattering shows them (at 120° a Cs veil's phase, g 0.75, is a
+# tenth of that and the reviewer saw no cloud)
+SUN_AHEAD = {"cirrus": 45.0, "cirrostratus": 45.0}
 
 
 def parse_args(argv):
@@ -156,6 +160,8 @@ def shot(name, view, sun, values, baked, out_png, args):
         elevation, azimuth = SUN_IN_VIEW[name] if view == "below" and name in SUN_IN_VIEW else SUNS[sun]
         if view == "side" and sun == "low" and "main" in baked:
             azimuth = SIDE_LIT_AZIMUTH
+        if view == "side" and sun == "low" and name in SUN_AHEAD:
+            azimuth = SUN_AHEAD[name]
         sl.daylight(scene, elevation, azimuth)
     render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
