@@ -1,8 +1,9 @@
 // json_limits.h — JSON from files we did not write: parsed with limits, shown briefly.
 //
 // Every parameter, camera and sequence file goes through parse_json_limited:
-// the text size, the nesting depth (checked while parsing, so a deep value
-// never reaches the JSON library's recursive dump() or destructor), string
+// the text size, the nesting depth (checked by a SAX pass before any document
+// is built, so a deep value never reaches the JSON library's recursive dump()
+// or destructor; both passes are linear in the text), string
 // lengths and the number of values are bounded, and duplicate keys are refused
 // (nlohmann keeps the last one silently). brief() renders a value for an
 // error message in at most ~100 characters.
