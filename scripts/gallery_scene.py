@@ -30,9 +30,11 @@ COMPANION_SEEDS = 4
 LAYER_RATIO = 0.3
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
-# Textured low decks: this many rings, and no thickness relaxation of the voxel (at 4 rings
-# with it, the stratocumulus's voxel straight overhead was 6 pixels wide: "out of focus")
-FINE_DECKS = {"stratocumulus": 6}
+# Textured low decks could take more rings and no thickness relaxation (at 4 rings with it, the
+# stratocumulus's voxel straight overhead is 6 pixels wide: "out of focus"); tried with 6 rings
+# of 1.5-pixel voxels, Cycles's first sample took 12 min where the whole 16-sample image had
+# taken 9: its volume step follows the voxel. Not used until the step rate is raised with it.
+FINE_DECKS = {}
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
