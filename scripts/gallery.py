@@ -15,7 +15,9 @@ CPU. Shots:
          cirrostratus: toward the sun, how veils are told apart)
   behind side-on, the sun low and right behind the cloud's upper edge (silver lining)
 
-and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°).
+and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°);
+side-on under the low sun, compact clouds are lit from the side and thin ice layers have the
+sun ahead (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
 Landscape (hilly ground, haze), 32 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Files are numbered in a shuffled order (NN.png, no type in the
@@ -48,6 +50,18 @@ SIDE_LIT_AZIMUTH = 90.0
 # frame, where their forward scattering shows them (at 120° a Cs veil's phase, g 0.75, is a
 # tenth of that and the reviewer saw no cloud)
 SUN_AHEAD = {"cirrus": 45.0, "cirrostratus": 45.0}
+
+
+def sun_direction(name, view, sun, compact):
+    """(elevation, azimuth from the view) of the sun for a shot: SUNS, except the veils from
+    below (SUN_IN_VIEW) and side-on under the low sun, compact clouds side-lit and thin ice
+    layers with the sun ahead."""
+    if view == "below" and name in SUN_IN_VIEW:
+        return SUN_IN_VIEW[name]
+    elevation, azimuth = SUNS[sun]
+    if view == "side" and sun == "low":
+        azimuth = SIDE_LIT_AZIMUTH if compact else SUN_AHEAD.get(name, azimuth)
+    return elevation, azimuth
 
 
 def parse_args(argv):
@@ -157,12 +171,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         elevation = math.degrees(math.atan2(rel.z, math.hypot(rel.x, rel.y)))
         sl.daylight(scene, elevation, 0.0)
     else:
-        elevation, azimuth = SUN_IN_VIEW[name] if view == "below" and name in SUN_IN_VIEW else SUNS[sun]
-        if view == "side" and sun == "low" and "main" in baked:
-            azimuth = SIDE_LIT_AZIMUTH
-        if view == "side" and sun == "low" and name in SUN_AHEAD:
-            azimuth = SUN_AHEAD[name]
-        sl.daylight(scene, elevation, azimuth)
+        sl.daylight(scene, *sun_direction(name, view, sun, compact="main" in baked))
     render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
     return render_cloud.render(scene, out_png)

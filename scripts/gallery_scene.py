@@ -30,11 +30,6 @@ COMPANION_SEEDS = 4
 LAYER_RATIO = 0.3
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
-# Textured low decks could take more rings and no thickness relaxation (at 4 rings with it, the
-# stratocumulus's voxel straight overhead is 6 pixels wide: "out of focus"); tried with 6 rings
-# of 1.5-pixel voxels, Cycles's first sample took 12 min where the whole 16-sample image had
-# taken 9: its volume step follows the voxel. Not used until the step rate is raised with it.
-FINE_DECKS = {}
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
@@ -170,15 +165,17 @@ def layer_levels(name, values, width):
     base = km(BASE_KM.get(name, 2.5))
     tan_x = 18.0 / BELOW_LENS
     levels = []
-    count = FINE_DECKS.get(name, NESTED_LEVELS)
-    for k in range(count):
+    for k in range(NESTED_LEVELS):
         size = wide / 2 ** k
-        inner = wide / 2 ** (k + 3) if k < count - 1 else 0.0
+        inner = wide / 2 ** (k + 3) if k < NESTED_LEVELS - 1 else 0.0
         outer = None if k == 0 else wide / 2 ** (k + 2)
         nearest = math.hypot(base, inner)
         voxel = PIXELS_PER_VOXEL * nearest * 2 * tan_x / width
-        if name not in FINE_DECKS:
-            voxel = max(voxel, min(box[2] / THICKNESS_VOXELS, 4 * voxel))
+        # The thickness relaxation leaves a low textured deck coarse overhead (stratocumulus: 6
+        # pixels a voxel straight up, "out of focus"). Without it and with 6 rings the voxels were
+        # 1.5 pixels, but Cycles steps by the voxel: the first of 16 samples took 12 min where the
+        # whole image had taken 9. Needs the material's step rate raised with the finer voxel.
+        voxel = max(voxel, min(box[2] / THICKNESS_VOXELS, 4 * voxel))
         voxel = max(voxel, (size * size * box[2] / MAX_LEVEL_VOXELS) ** (1 / 3))
         res = int(math.ceil(size / voxel))
         lv = dict(values, box_size=[box[0] / 2 ** k, box[1] / 2 ** k, box[2]])
