@@ -6,9 +6,13 @@ GPU other than OptiX), Script nodes never compiled, a baked cloud whose VDB is
 missing or whose bake is stale (its field key differs from the current parameters'),
 denoising on in a build without a denoiser. Each line goes to stderr
 (`cloudgen: warning: ...`; once per render, not per frame) and, with a window, to
-the status bar. In background mode a **missing VDB stops the render** with exit
-code 1 (a farm that lost the `cloudgen/` folder must not deliver empty skies),
-unless the environment says CLOUDGEN_ALLOW_MISSING_VDB=1.
+the status bar. In background mode a cloud that **would render empty stops the
+render** with exit code 1 — its VDB is missing (a farm that lost the `cloudgen/`
+folder), or it is procedural where OSL cannot run (a build without OSL, Eevee,
+OSL off, a GPU other than OptiX) or its shaders were never compiled — because a
+farm trusts the exit code and must not deliver empty skies. The environment
+CLOUDGEN_ALLOW_EMPTY_CLOUDS=1 (or the older CLOUDGEN_ALLOW_MISSING_VDB=1) renders
+anyway; the lines are still printed.
 
 load_post: node groups built in a Blender without OSL (their Script nodes have no
 sockets, nothing is linked, the cloud renders empty) are compiled and linked when
@@ -23,7 +27,8 @@ import bpy
 
 from . import bake_params, cloud_object, nodes, preview, volume_object
 
-ALLOW_MISSING_ENV = "CLOUDGEN_ALLOW_MISSING_VDB"
+ALLOW_EMPTY_ENV = "CLOUDGEN_ALLOW_EMPTY_CLOUDS"
+ALLOW_MISSING_ENV = "CLOUDGEN_ALLOW_MISSING_VDB"  # the older name (missing VDBs only until 2026-11), still honoured
 _last_printed = set()
 
 
@@ -130,9 +135,10 @@ def stale(cloud, scene) -> bool:
 
 
 def problems(scene):
-    """(missing, warnings): lines about the scene's clouds; `missing` are baked clouds
-    whose VDB file is not there (the render would show nothing where they are)."""
-    missing, warnings = [], []
+    """(empty, warnings): lines about the scene's clouds; `empty` are the clouds the render
+    would show as nothing (a baked VDB not there, a procedural cloud where OSL cannot run or
+    whose shaders were never compiled), `warnings` the rest (a stale bake, no denoiser)."""
+    empty, warnings = [], []
     if denoiser_missing(scene):
         warnings.append("denoising is on but this Blender has no OpenImageDenoise: the render "
                         "fails; turn Denoise off (Render Properties → Sampling)")
@@ -143,13 +149,13 @@ def problems(scene):
         if source == "BAKED":
             vdb_obj = volume_object.baked_object(cloud)
             if vdb_obj is None:
-                missing.append(f"{cloud.name} is set to render its bake, but it has no Volume object")
+                empty.append(f"{cloud.name} is set to render its bake, but it has no Volume object")
                 continue
             if vdb_obj.hide_render:
                 continue
             absent = [f for f in _baked_files(cloud, vdb_obj) if not os.path.isfile(bpy.path.abspath(f))]
             if absent:
-                missing.append(f"{cloud.name}: the baked VDB {absent[0]} is missing"
+                empty.append(f"{cloud.name}: the baked VDB {absent[0]} is missing"
                                + (f" (and {len(absent) - 1} more)" if len(absent) > 1 else "")
                                + "; copy the cloudgen/ folder next to the .blend")
             elif stale(cloud, scene):
@@ -161,11 +167,16 @@ def problems(scene):
         if osl is None:
             osl = _osl_problem(scene) or ""
         if osl:
-            warnings.append(f"{cloud.name} renders empty: {osl}; bake it (Cloud → Bake) to render it anywhere")
+            empty.append(f"{cloud.name} renders empty: {osl}; bake it (Cloud → Bake) to render it anywhere")
         elif uncompiled & set(_groups_of(cloud)):
-            warnings.append(f"{cloud.name} renders empty: its shaders were never compiled (made in a "
+            empty.append(f"{cloud.name} renders empty: its shaders were never compiled (made in a "
                             "Blender without OSL); reopen the file with the add-on enabled")
-    return missing, warnings
+    return empty, warnings
+
+
+def allowed_empty() -> bool:
+    """The farm asked to render even where a cloud would come out empty."""
+    return "1" in (os.environ.get(ALLOW_EMPTY_ENV), os.environ.get(ALLOW_MISSING_ENV))
 
 
 def _status(text):
@@ -184,11 +195,11 @@ def on_render_pre(scene, *_):
     try:
         if scene.camera is not None:
             nodes.revalidate_lod_drivers()  # a cloud added before the camera was
-        missing, warnings = problems(scene)
+        empty, warnings = problems(scene)
     except Exception as exc:  # noqa: BLE001 - a check must never stop a render by itself
         print(f"cloudgen: warning: the pre-render check failed: {exc}", file=sys.stderr, flush=True)
         return
-    lines = missing + warnings
+    lines = empty + warnings
     key = frozenset(lines)
     if lines and key != _last_printed:
         for line in lines:
@@ -198,9 +209,10 @@ def on_render_pre(scene, *_):
     if not bpy.app.background:
         _status(("cloudgen: " + "; ".join(lines)) if lines else None)
         return
-    if missing and os.environ.get(ALLOW_MISSING_ENV) != "1":
-        print(f"cloudgen: error: stopping the render: a baked VDB is missing (set {ALLOW_MISSING_ENV}=1 "
-              "to render without it)", file=sys.stderr, flush=True)
+    if empty and not allowed_empty():
+        more = f" (and {len(empty) - 1} more cloud{'s' if len(empty) > 2 else ''})" if len(empty) > 1 else ""
+        print(f"cloudgen: error: stopping the render: {empty[0]}{more}; set {ALLOW_EMPTY_ENV}=1 to "
+              "render anyway", file=sys.stderr, flush=True)
         sys.stdout.flush()
         os._exit(1)  # a handler's exception does not stop Blender's render loop or its exit code
 

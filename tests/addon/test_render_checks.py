@@ -1,7 +1,8 @@
 """The pre-render check (addon/checks.py, render_pre) and the load_post repairs, in the
 4.5 wheel (issue 12, findings 2, 3, 5 and 6): a procedural cloud under Eevee or
-Workbench, a missing VDB, a stale bake, denoising with no denoiser each give one
-line; the handler prints them on stderr (`cloudgen: warning: ...`, once for the
+Workbench and a missing VDB each give one line among the clouds that would render
+empty (a background render stops on them), a stale bake and denoising with no
+denoiser one warning; the handler prints them on stderr (`cloudgen: warning: ...`, once for the
 same set); a Render Settings with Denoise on never leaves a denoiser the build
 lacks switched on; reopening a file shows the preview without an edit. The real
 renders (3.4 without a denoiser, a farm without its VDB folder, a 3.4 file in 4.5)
@@ -21,8 +22,8 @@ def cloud(addon, scene, tmp_path):
 
 
 def _lines(addon, scene):
-    missing, warnings = addon.checks.problems(scene)
-    return missing, warnings
+    empty, warnings = addon.checks.problems(scene)
+    return empty, warnings
 
 
 def test_procedural_cloud_under_eevee_or_workbench(addon, scene, cloud):
@@ -32,9 +33,9 @@ def test_procedural_cloud_under_eevee_or_workbench(addon, scene, cloud):
                           [e.identifier for e in scene.render.bl_rna.properties["engine"].enum_items]
                           else "BLENDER_EEVEE", "Eevee")):
         scene.render.engine = engine
-        missing, warnings = _lines(addon, scene)
-        assert not missing and len(warnings) == 1, warnings
-        assert f"{cloud.name} renders empty" in warnings[0] and word in warnings[0], warnings
+        empty, warnings = _lines(addon, scene)
+        assert not warnings and len(empty) == 1, (engine, empty, warnings)
+        assert f"{cloud.name} renders empty" in empty[0] and word in empty[0], (engine, empty)
 
 
 def test_missing_and_stale_bake(addon, scene, cloud, tmp_path, capfd):
@@ -50,12 +51,12 @@ def test_missing_and_stale_bake(addon, scene, cloud, tmp_path, capfd):
     missing, warnings = _lines(addon, scene)
     assert len(missing) == 1 and "Cumulus.vdb is missing" in missing[0], missing
     capfd.readouterr()
-    os.environ[addon.checks.ALLOW_MISSING_ENV] = "1"   # the handler would end the process otherwise
+    os.environ[addon.checks.ALLOW_EMPTY_ENV] = "1"   # the handler would end the process otherwise
     try:
         addon.checks.on_render_pre(scene)
         addon.checks.on_render_pre(scene)   # the same lines again: not printed twice
     finally:
-        del os.environ[addon.checks.ALLOW_MISSING_ENV]
+        del os.environ[addon.checks.ALLOW_EMPTY_ENV]
     err = capfd.readouterr().err
     assert err.count("cloudgen: warning: Cumulus: the baked VDB") == 1, err
 
@@ -80,3 +81,15 @@ def test_reopened_file_shows_the_preview(addon, scene, cloud, tmp_path):
     addon.preview.state.values = None
     bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "c.blend"))
     assert addon.preview.state.values is not None, addon.preview.state.error
+
+
+@pytest.mark.parametrize("env", [{}, {"CLOUDGEN_ALLOW_EMPTY_CLOUDS": "1"}, {"CLOUDGEN_ALLOW_MISSING_VDB": "1"},
+                                 {"CLOUDGEN_ALLOW_EMPTY_CLOUDS": "0"}])
+def test_allow_empty_environment(addon, monkeypatch, env):
+    """Either name set to 1 lets a farm render a cloud that would come out empty (the older
+    CLOUDGEN_ALLOW_MISSING_VDB still works); anything else stops the render."""
+    for name in (addon.checks.ALLOW_EMPTY_ENV, addon.checks.ALLOW_MISSING_ENV):
+        monkeypatch.delenv(name, raising=False)
+    for name, value in env.items():
+        monkeypatch.setenv(name, value)
+    assert addon.checks.allowed_empty() == ("1" in env.values()), env

@@ -6,8 +6,9 @@ renders frames 1-2 of a saved .blend to files, with 3.4 and with the bpy wheel.
 No cloudgen executable is on PATH (build/bin is removed from it): the add-on bakes
 through Debian's pyopenvdb (python3-openvdb). The same farm command on a copy of the
 .blend without its cloudgen/ folder exits 1 naming the missing VDB (0 with
-CLOUDGEN_ALLOW_MISSING_VDB=1); a procedural cloud saved here (no OSL: Script nodes
-never compiled) renders non-empty in the 4.5 wheel with the add-on (load_post
+CLOUDGEN_ALLOW_MISSING_VDB=1, the older name); a procedural cloud farm-rendered here
+(no OSL) stops the same way (0 with CLOUDGEN_ALLOW_EMPTY_CLOUDS=1); a procedural
+cloud saved here (no OSL: Script nodes never compiled) renders non-empty in the 4.5 wheel with the add-on (load_post
 compiles and links them). Skipped without /usr/bin/blender unless
 CLOUDGEN_REQUIRE_BLENDER=1."""
 import json
@@ -190,17 +191,25 @@ def test_saved_in_34_renders_procedurally_in_45(baked, tmp_path):
     assert lit["0"] < lit["1"], lit
 
 
-def test_procedural_cloud_render_warns_in_34(baked, env):
-    """F12 on a procedural cloud in 3.4 (no OSL): the image would be empty; the add-on's
-    pre-render check says why on stderr (the render itself still runs: exit 0)."""
+def test_procedural_cloud_farm_render_fails_in_34(baked, env):
+    """A farm render of a procedural cloud in 3.4 (no OSL) would deliver an empty sky: the
+    add-on's pre-render check names the cloud and the reason on stderr and stops the render
+    (exit 1, no frame); with CLOUDGEN_ALLOW_EMPTY_CLOUDS=1 it renders (exit 0, the warning
+    still printed)."""
     out, _ = baked
     _, e = env
     cmd = [BLENDER, "-b", "--addons", "cloudgen", str(out / "procedural.blend"), "-E", "CYCLES",
            "-o", "//render_proc/frame_####", "-f", "1"]
     proc = subprocess.run(cmd, env=e, capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-    assert "cloudgen: warning:" in proc.stderr and "renders empty" in proc.stderr \
+    assert proc.returncode == 1, (proc.returncode, proc.stdout[-2000:] + proc.stderr[-2000:])
+    assert "cloudgen: error: stopping the render:" in proc.stderr and "renders empty" in proc.stderr \
         and "Open Shading Language" in proc.stderr, proc.stderr[-2000:]
+    assert _frames(out / "render_proc") == []
+    proc = subprocess.run(cmd, env=dict(e, CLOUDGEN_ALLOW_EMPTY_CLOUDS="1"), capture_output=True,
+                          text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "cloudgen: warning:" in proc.stderr and "renders empty" in proc.stderr, proc.stderr[-2000:]
+    assert _frames(out / "render_proc") == ["frame_0001.png"]
 
 
 def test_add_bake_undo_50_times_in_34(env):
