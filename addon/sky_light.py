@@ -40,7 +40,7 @@ SUN_IRRADIANCE = (
 )
 CLAMP_DISPLAY = 10.0  # Cycles' default indirect clamp, meant for exposure 0: kept relative to the display
 SKY_SHARE = 0.15  # skylight on a sunlit surface, as a share of the direct sun (exposure rule)
-MIDDLE = 5.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
+MIDDLE = 3.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
 LOOKS = ("AgX - High Contrast", "Filmic - High Contrast", "High Contrast")  # by Blender version
 WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is left warm (golden hour)
 
@@ -79,13 +79,16 @@ def sun_direction(elevation_deg: float, rotation_deg: float) -> Vector:
 
 def exposure_for(elevation_deg: float) -> float:
     """Film exposure (stops) that brings a white surface facing the sun to MIDDLE: its
-    radiance is about (1 + SKY_SHARE) * E_sun / pi. MIDDLE 5 (not 1): the sunlit side of the
-    default cumulus, seen with the sun behind the camera, measured a third of that surface
-    (a thick cloud sends much of its light out of its other sides), and a photographer
-    exposes for the cloud, so that its sunlit side comes out near white; AgX's High
-    Contrast look rolls the rest off (at MIDDLE 3 the sunlit side stayed at display 180 of
-    255, a grey cloud). A low sun gets a longer exposure, as a
-    camera would; the floor keeps a set sun from blowing up the sky."""
+    radiance is about (1 + SKY_SHARE) * E_sun / pi. MIDDLE 3 (not 1): a thick cloud sends
+    much of its light out of its other sides (the default cumulus's sunlit side, sun behind
+    the camera, measured a third of that surface), and a photographer exposes for the cloud;
+    AgX's High Contrast look rolls the rest off. MIDDLE was 5 until 2026-11: the sky came out
+    pale and the clouds' sunlit and shaded flanks both sat in AgX's shoulder (two blind
+    reviewers: "overexposed", "evenly lit"). The gallery's cumulus side-on, side-lit by a 25°
+    sun (display 0-255; sky at the top, horizon, sunlit flank, shaded flank): MIDDLE 5 with
+    40 km haze 177/221/225/192; MIDDLE 3 with 80 km haze (landscape.VISIBILITY_KM)
+    129/196/203/139. A low sun gets a longer exposure, as a camera would; the floor keeps a
+    set sun from blowing up the sky."""
     lum = max(luminance(sun_irradiance(max(elevation_deg, 2.0))), 1e-3)
     return math.log2(MIDDLE * math.pi / ((1.0 + SKY_SHARE) * lum))
 

@@ -60,10 +60,11 @@ def test_bake_quality_draft_takes_the_tier_settings(out_dir):
 
 def test_explicit_options_win_over_the_tier(out_dir):
     tier = json.loads(TIERS_FILE.read_text())["draft"]["bake"]
-    # the cumulus with the thesis's linear edge (Edge Sharpness 0): its faint rim (values below the draft
-    # tolerance) is what --tolerance 0 must keep; the preset's sharp edge leaves almost none at 16 voxels
+    # the cumulus with the thesis's linear edge (Edge Sharpness 0) and density 0.8: its faint rim (values
+    # below the draft tolerance) is what --tolerance 0 must keep; the preset's sharp edge leaves almost
+    # none at 16 voxels, and at the preset's density 2.4 no sampled rim value falls below the tolerance
     soft = out_dir / "soft_cumulus.json"
-    soft.write_text(json.dumps({"preset": "cumulus", "edge_sharpness": 0.0}))
+    soft.write_text(json.dumps({"preset": "cumulus", "edge_sharpness": 0.0, "density": 0.8}))
     out = out_dir / "d16.vdb"
     r = run("bake", "--params", soft, "--quality", "draft", "--resolution", 16, "--output", out, "--quiet")
     assert r.returncode == 0, r.stderr
