@@ -2,7 +2,7 @@
 All of them work in background mode (no window, area or region needed)."""
 import bpy
 
-from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props
+from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props, volume_material
 from .panel import tooltip
 
 # Volume bounces for clouds: a thick cloud scatters light many times before it leaves; with
@@ -95,9 +95,11 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
                                                 "Blender has no denoiser)")
     volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=CLOUD_BOUNCES, min=0, max=128,
                                           description="Multiple scattering makes clouds bright")
-    step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.2, min=0.01, max=10.0,
-                                       description="Volume step rate of the cloud materials "
-                                                   "(smaller: finer detail, slower)")
+    step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.0, min=0.0, max=10.0,
+                                       description="Volume step rate of the cloud materials (smaller: finer "
+                                                   "detail and a more accurate density, slower); 0: each "
+                                                   "cloud type's own (0.1 for the dense cumulus, 0.5 for "
+                                                   "thin ice clouds)")
 
     def execute(self, context):
         for line in apply_render_settings(context.scene, self.procedural, self.denoise, self.volume_bounces,
@@ -109,9 +111,16 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
         return {"FINISHED"}
 
 
-def apply_render_settings(scene, procedural=True, denoise=True, volume_bounces=CLOUD_BOUNCES, step_rate=0.2):
+def type_step_rate(cloud) -> float:
+    """The procedural step rate of the cloud's type (its preset's material; until 2026-11 Render
+    Settings set 0.2 on every cloud, overriding the thin types' 0.5 and the cumulus's 0.1)."""
+    look = bridge.presets().get(cloud.get(cloud_object.TYPE_KEY, ""), {}).get("material", {})
+    return float(look.get("step_rate", volume_material.DEFAULT_STEP_RATE))
+
+
+def apply_render_settings(scene, procedural=True, denoise=True, volume_bounces=CLOUD_BOUNCES, step_rate=0.0):
     """Cycles settings that suit clouds (the Cloud Render Settings operator, and Cloud Sky &
-    Sun); returns lines worth telling the artist."""
+    Sun); returns lines worth telling the artist. step_rate 0: each cloud type's own."""
     said = []
     scene.render.engine = "CYCLES"
     c = scene.cycles
@@ -131,9 +140,10 @@ def apply_render_settings(scene, procedural=True, denoise=True, volume_bounces=C
     for attr, value in (("volume_step_rate", 1.0), ("volume_max_steps", 1024)):
         if hasattr(c, attr):  # Blender 5 renders volumes without ray-marching steps
             setattr(c, attr, value)
-    for mat in {cloud_object.cloud_material(o) for o in scene.objects if cloud_object.is_cloud(o)}:
+    for cloud in (o for o in scene.objects if cloud_object.is_cloud(o)):
+        mat = cloud_object.cloud_material(cloud)
         if mat is not None and hasattr(mat.cycles, "volume_step_rate"):
-            mat.cycles.volume_step_rate = step_rate
+            mat.cycles.volume_step_rate = step_rate if step_rate > 0.0 else type_step_rate(cloud)
     return said
 
 

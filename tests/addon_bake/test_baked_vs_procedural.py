@@ -25,6 +25,14 @@ and procedural paths, hence differences below the seed-to-seed floor. Tolerances
 for other CPUs and versions but well below what a misplaced or mis-scaled volume gives:
 mean 5 %, RMSE below the noise floor (ratio 1.0), blocks 15 %.
 
+Density 2.4 (2026-11; was 0.8) needs a finer procedural step: Cycles 4.x marches a mesh
+volume in steps of step rate x a tenth of the box (0.2: 0.07 units, an optical depth of 3.3
+at the peak extinction 48), and the coarse steps overestimate transmittance. Measured at
+64 spp against the baked render (0.00387): procedural mean 0.00430 at step rate 0.2 (+11 %,
+blocks 25 %: failed), 0.00383 at 0.1 (-1 %, RMSE 0.86 of the floor, blocks 13 %), 0.00371 at
+0.05 (-4 %, 2.3x the render time of 0.2). A smaller step on the baked side (0.5, 0.25 of the
+voxel) changed nothing. The cumulus preset's material therefore has step rate 0.1.
+
 The procedural side renders with its LOD Pixel Angle driver removed (0: every octave), as
 the bake is made with --no-lod: this compares the two paths on one field. The LOD's own
 effect is measured against a converged full-detail render in docs/osl.md; at this test's

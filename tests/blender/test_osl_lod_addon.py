@@ -95,6 +95,10 @@ def test_camera_added_after_the_cloud(addon):
 
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
+    # Cycles on the CPU with OSL: in the empty file's engine the cloud would render empty, and
+    # the pre-render check would end this background process (checks.on_render_pre)
+    scene.render.engine = "CYCLES"
+    scene.cycles.device, scene.cycles.shading_system = "CPU", True
     bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
     cloud = bpy.context.view_layer.objects.active
     assert driven_angle(addon, cloud) == 0.0
