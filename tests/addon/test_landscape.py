@@ -99,7 +99,8 @@ def _mean_rows(path, rows):
 def test_haze_brings_the_far_ground_toward_the_sky(addon, scene, tmp_path):
     """Toward the horizon through a 100 mm lens from 125 m up (the frame spans ±5.8°): the
     contrast between the sky 4° up and the far ground 0.5° down (about 14 km away), with and
-    without the haze. Aerial perspective shrinks it; the haze must take away at least a third.
+    without the haze. Aerial perspective shrinks it; the haze must take away at least half of
+    what Koschmieder's law predicts for the landscape's visibility.
     (From eye height the far ground is a sliver of a row: this camera stands on a hill.)"""
     import bpy
 
@@ -123,7 +124,14 @@ def test_haze_brings_the_far_ground_toward_the_sky(addon, scene, tmp_path):
         sky, far = _mean_rows(scene.render.filepath, rows_at)
         contrast[haze] = (sky - far) / max(sky, 1e-9)
     assert contrast[False] > 0.3, (contrast, rows_at)  # without haze the far hills stand out
-    assert contrast[True] < (2 / 3) * contrast[False], (contrast, rows_at)
+    # Koschmieder: contrast against the horizon sky falls as exp(-3.912 d / V); d = 14.3 km
+    # (0.5° down from 125 m). At 80 km that is 0.50; the sky 4° up is not the horizon's
+    # airlight, so less is lost: measured 0.693 in Blender 5.0, 0.665 in 4.5. Bound: at least
+    # half the Koschmieder loss, 1 - (1 - T) / 2 (0.75 at 80 km; 0.63 at the former 40 km).
+    t = math.exp(-3.912 * (0.125 / math.tan(math.radians(0.5))) / ls.VISIBILITY_KM)
+    ratio = contrast[True] / contrast[False]
+    print(f"MEASURE haze contrast ratio {ratio:.3f} (bound {1 - (1 - t) / 2:.3f}, Koschmieder {t:.3f})")
+    assert ratio < 1 - (1 - t) / 2, (contrast, ratio, t, rows_at)
 
 
 def test_look_and_white_balance(addon, scene):
