@@ -98,8 +98,8 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
     step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.0, min=0.0, max=10.0,
                                        description="Volume step rate of the cloud materials (smaller: finer "
                                                    "detail and a more accurate density, slower); 0: each "
-                                                   "cloud type's own (0.1 for the dense cumulus, 0.5 for "
-                                                   "thin ice clouds)")
+                                                   "cloud type's own, from its preset (finer for dense "
+                                                   "clouds, coarser for thin ones)")
 
     def execute(self, context):
         for line in apply_render_settings(context.scene, self.procedural, self.denoise, self.volume_bounces,
@@ -113,9 +113,9 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
 
 def type_step_rate(cloud) -> float:
     """The procedural step rate of the cloud's type (its preset's material; until 2026-11 Render
-    Settings set 0.2 on every cloud, overriding the thin types' 0.5 and the cumulus's 0.1)."""
+    Settings set 0.2 on every cloud, overriding every preset's own rate)."""
     look = bridge.presets().get(cloud.get(cloud_object.TYPE_KEY, ""), {}).get("material", {})
-    return float(look.get("step_rate", volume_material.DEFAULT_STEP_RATE))
+    return volume_material.procedural_step_rate(look)
 
 
 def apply_render_settings(scene, procedural=True, denoise=True, volume_bounces=CLOUD_BOUNCES, step_rate=0.0):

@@ -60,6 +60,11 @@ def _new_shader(nt, look, phase, like):
     return node
 
 
+def procedural_step_rate(look: dict) -> float:
+    """The step rate of a procedural material of this look (a preset's "material")."""
+    return float(look.get("step_rate", DEFAULT_STEP_RATE))
+
+
 def volume_material(mat, look: dict, grid=None, phase="AUTO", like=None, step_rate=None):
     """Clear mat's node tree and build the volume shader in it; returns the "Cloud Volume" node.
     look: the preset's "material" (color, anisotropy, step_rate); grid: None for a procedural
@@ -86,7 +91,7 @@ def volume_material(mat, look: dict, grid=None, phase="AUTO", like=None, step_ra
             attr.location = (-150, 0)
             nt.links.new(attr.outputs["Fac"], volume.inputs["Density"])
     if step_rate is None:
-        step_rate = 1.0 if grid is not None else float(look.get("step_rate", DEFAULT_STEP_RATE))
+        step_rate = 1.0 if grid is not None else procedural_step_rate(look)
     if hasattr(mat, "cycles") and hasattr(mat.cycles, "volume_step_rate"):  # Blender 5: none
         mat.cycles.volume_step_rate = float(step_rate)
     return volume

@@ -13,8 +13,7 @@ def test_render_settings_keep_each_types_step_rate(addon, scene):
     for kind in ("cumulus", "cirrus", "stratus"):
         assert bpy.ops.cloudgen.add_cloud(cloud_type=kind) == {"FINISHED"}
         clouds[kind] = bpy.context.view_layer.objects.active
-    want = {k: presets[k].get("material", {}).get("step_rate", addon.volume_material.DEFAULT_STEP_RATE)
-            for k in clouds}
+    want = {k: addon.volume_material.procedural_step_rate(presets[k].get("material", {})) for k in clouds}
     assert want["cumulus"] < want["stratus"] < want["cirrus"], want  # the test can tell them apart
 
     def rates():
