@@ -109,6 +109,11 @@ def slice(values: dict, axis: str, offset: float, width: int, height: int):  # n
     return require().slice(values, axis, offset, width, height)
 
 
+def slice_display_scale(peak: float) -> float:
+    """S of the slice display grey = 1 - exp(-density / S) (the CLI's PNG mapping)."""
+    return require().slice_display_scale(peak)
+
+
 def shader_source(name: str) -> str:
     """The flattened (self-contained) OSL source shipped in shaders/<name>.osl."""
     path = SHADER_DIR / f"{name}.osl"

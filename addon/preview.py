@@ -2,9 +2,11 @@
 
 cloudgen_native.slice() of params_from_object(obj) is kept as it came
 (`state.values`, float32, row 0 at the top) and written into the Image
-datablock "Cloud Preview" (float, grey = density / 20 — a Density slider of 1
-shows the cloud's core white — clipped to [0, 1], bottom row first as Blender
-stores images) and into an icon of a bpy.utils.previews collection that the
+datablock "Cloud Preview" (float, bottom row first as Blender stores images;
+grey = 1 - exp(-density / S), S = cloudgen_native.slice_display_scale(peak)
+= max(peak / 3, 0.001): the mapping of `cloudgen preview`'s PNG; the slice's
+peak shows at 95 % grey, so a dense cumulus is not a white block and a thin
+cirrus is not black) and into an icon of a bpy.utils.previews collection that the
 N-panel draws (template_icon works in 3.4 and 4.x; the Image can be opened
 in an Image Editor too). A depsgraph_update_post handler refreshes it when
 the active cloud's parameters change: it compares a signature of the
@@ -20,7 +22,6 @@ import numpy as np
 from . import bridge, cloud_object
 
 IMAGE_NAME = "Cloud Preview"
-DISPLAY_SCALE = np.float32(1.0 / 20.0)
 MIN_INTERVAL = 0.1
 
 
@@ -49,7 +50,9 @@ def preview_size(values, axis: str, width: int):
 
 def display_pixels(values):
     """RGBA floats, bottom row first, for an Image or icon."""
-    grey = np.clip(values * DISPLAY_SCALE, 0.0, 1.0)[::-1]
+    peak = float(values.max()) if values.size else 0.0
+    scale = np.float32(bridge.slice_display_scale(peak))
+    grey = (1.0 - np.exp(-np.maximum(values, 0.0) / scale))[::-1]
     rgba = np.ones(grey.shape + (4,), dtype=np.float32)
     rgba[..., 0] = rgba[..., 1] = rgba[..., 2] = grey
     return rgba.ravel()

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "cli/commands.h"
 #include "cli/events.h"
@@ -22,8 +24,8 @@ constexpr int kMaxImageSide = 16384;
 
 const char* const kPreviewHelp =
     "usage: cloudgen preview (--preset NAME | --params FILE.json) --axis x|y|z --offset O\n"
-    "                        --size W[xH] --output FILE.png|FILE.exr [--lod] [--time T] [--threads N]\n"
-    "                        [--json]\n"
+    "                        --size W[xH] --output FILE.png|FILE.exr [--png-scale S|auto] [--lod]\n"
+    "                        [--time T] [--threads N] [--json]\n"
     "\n"
     "Writes the 2D cross-section of the density through the cloud box, the plane\n"
     "perpendicular to --axis at --offset (a generated box coordinate in [0, 1],\n"
@@ -34,9 +36,11 @@ const char* const kPreviewHelp =
     "  --offset O          plane position in [0, 1] (default 0.5)\n"
     "  --size W[xH]        image size in pixels, each in [1, 16384] (default 256); H\n"
     "                      defaults to W × the aspect of the box face\n"
-    "  --output FILE       .png: 8-bit grey for the eye, level = round(255·(1 − exp(−density/4)))\n"
+    "  --output FILE       .png: 8-bit grey for the eye, level = round(255·(1 − exp(−density/S)))\n"
     "                      .exr: 32-bit float channel Y = density, with metadata\n"
     "                      cloudgen:params (JSON), cloudgen:axis, cloudgen:offset, cloudgen:version\n"
+    "  --png-scale S|auto  the PNG's display scale S in (0, 1e6]; auto (default) = max(peak/3, 0.001):\n"
+    "                      the slice's peak at 95 % grey; the PNG names S in cloudgen:png_scale\n"
     "  --lod               limit noise octaves to the pixel footprint (default: all octaves)\n"
     "  --time T            overrides the `time` parameter (seconds)\n"
     "  --threads N         worker threads (default 0 = one per core)\n"
@@ -56,6 +60,7 @@ int cmd_preview(const std::vector<std::string>& argv) {
           {"--offset", true},
           {"--size", true},
           {"--output", true},
+          {"--png-scale", true},
           {"--lod", false},
           {"--time", true},
           {"--threads", true},
@@ -77,6 +82,12 @@ int cmd_preview(const std::vector<std::string>& argv) {
   const std::string output = a.text("--output");
   const auto format = cgio::image_format_for(output);
   if (!format) throw UsageError("--output '" + output + "' must name a .png or .exr file");
+  const std::string png_scale = a.get("--png-scale").value_or("auto");
+  const bool auto_scale = png_scale == "auto";
+  const auto parsed_scale = auto_scale ? std::optional<double>(0.0) : parse_number(png_scale);
+  if (!parsed_scale || (!auto_scale && !(*parsed_scale > 0.0 && *parsed_scale <= 1.0e6)))
+    throw UsageError("--png-scale must be auto or a finite number in (0, 1e6]; got '" + png_scale + "'");
+  const float fixed_scale = static_cast<float>(*parsed_scale);
 
   const cg::Model model = cg::prepare(params);
   const std::string size = a.get("--size").value_or("256");
@@ -108,21 +119,25 @@ int cmd_preview(const std::vector<std::string>& argv) {
   meta.params_json = cg::params_to_json(params);
   meta.axis = axis[0];
   meta.offset = s.offset;
+  const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
+  meta.png_scale = auto_scale ? cg::slice_display_scale(peak) : fixed_scale;
   file.write_with(
       [&](const std::string& tmp) { cgio::write_slice_with_plugin(tmp, *format, values, s.width, s.height, meta); });
   if (cancel_requested()) throw cg::Cancelled();
   file.commit();
-  const float peak = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
   const double seconds = seconds_since(t0);
   char line[200];
-  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g, %.2f s)", s.width, s.height, axis.c_str(),
-                s.offset, peak, seconds);
+  char scale_note[48] = "";
+  if (*format == cgio::ImageFormat::Png) std::snprintf(scale_note, sizeof scale_note, ", PNG scale %g", meta.png_scale);
+  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g%s, %.2f s)", s.width, s.height,
+                axis.c_str(), s.offset, peak, scale_note, seconds);
   emit("wrote",
        {{"path", output},
         {"size", {s.width, s.height}},
         {"axis", axis},
         {"offset", s.offset},
         {"max_density", peak},
+        {"png_scale", *format == cgio::ImageFormat::Png ? Fields(meta.png_scale) : Fields()},
         {"bytes", cgio::file_size(output)},
         {"seconds", seconds}},
        "wrote " + output + line);

@@ -18,13 +18,14 @@ std::optional<ImageFormat> image_format_for(const std::string& path) {
   return std::nullopt;
 }
 
-float png_display(float density) {
+float png_display(float density, float scale) {
   const float d = std::isfinite(density) ? std::max(density, 0.0f) : 0.0f;
-  return 1.0f - std::exp(-d / 4.0f);
+  const float s = std::isfinite(scale) && scale > 0.0f ? scale : kPngDefaultScale;
+  return 1.0f - std::exp(-d / s);
 }
 
-std::uint8_t png_level(float density) {
-  const float level = std::round(255.0f * png_display(density));
+std::uint8_t png_level(float density, float scale) {
+  const float level = std::round(255.0f * png_display(density, scale));
   return static_cast<std::uint8_t>(std::clamp(level, 0.0f, 255.0f));
 }
 

@@ -3,9 +3,12 @@
 // see image_plugin.h).
 //
 // A slice (row-major floats, row 0 at the top, see cg::slice) is written as
-//   .png  8-bit grey for the eye: level = round(255 · (1 − exp(−density / 4)))
+//   .png  8-bit grey for the eye: level = round(255 · (1 − exp(−density / S)))
 //         (0 = empty, 255 = opaque; the mapping is monotone and saturates
-//         smoothly, so thin and dense regions both stay visible)
+//         smoothly, so thin and dense regions both stay visible). S is the
+//         display scale: `cloudgen preview` uses cg::slice_display_scale(peak)
+//         = max(peak / 3, 0.001) (cloudgen/grid.h) unless told --png-scale; the
+//         file names S in cloudgen:png_scale and cloudgen:mapping.
 //   .exr  32-bit float, one channel "Y" holding the density itself, with
 //         metadata cloudgen:params (JSON), cloudgen:axis, cloudgen:offset,
 //         cloudgen:version (PNG gets the same entries as text).
@@ -25,13 +28,15 @@ enum class ImageFormat { Png, Exr };
 std::optional<ImageFormat> image_format_for(const std::string& path);
 
 // The documented PNG display mapping.
-float png_display(float density);       // 1 - exp(-density / 4), in [0, 1)
-std::uint8_t png_level(float density);  // round(255 · png_display)
+constexpr float kPngDefaultScale = 4.0f;  // S when none is given
+float png_display(float density, float scale = kPngDefaultScale);       // 1 - exp(-density / scale), in [0, 1)
+std::uint8_t png_level(float density, float scale = kPngDefaultScale);  // round(255 · png_display)
 
 struct SliceMeta {
   std::string params_json;
   char axis = 'z';
   float offset = 0.5f;
+  float png_scale = kPngDefaultScale;  // S of the PNG mapping (> 0, finite)
 };
 
 }  // namespace cgio

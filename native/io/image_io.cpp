@@ -4,6 +4,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "cloudgen/param_io.h"
 #include "io/atomic_file.h"
@@ -16,6 +18,8 @@ void write_slice(const std::string& path, ImageFormat format, const std::vector<
   if (width < 1 || height < 1 || values.size() != std::size_t(width) * std::size_t(height))
     throw IoError("cannot write '" + path + "': image size does not match its pixels");
   const bool png = format == ImageFormat::Png;
+  if (png && !(std::isfinite(meta.png_scale) && meta.png_scale > 0.0f))
+    throw IoError("cannot write '" + path + "': the PNG display scale must be finite and > 0");
   auto out = ImageOutput::create(png ? "png" : "openexr");
   if (!out)
     throw IoError("cannot write '" + path + "': OpenImageIO has no " + (png ? "PNG" : "OpenEXR") + " writer (" +
@@ -28,7 +32,10 @@ void write_slice(const std::string& path, ImageFormat format, const std::vector<
   spec.attribute("cloudgen:version", std::string(cg::version()));
   if (png) {
     spec.attribute("cloudgen:offset", std::to_string(meta.offset));
-    spec.attribute("cloudgen:mapping", "level = round(255 * (1 - exp(-density / 4)))");
+    char scale[32];
+    std::snprintf(scale, sizeof scale, "%.9g", double(meta.png_scale));
+    spec.attribute("cloudgen:png_scale", std::string(scale));
+    spec.attribute("cloudgen:mapping", std::string("level = round(255 * (1 - exp(-density / ") + scale + ")))");
   } else {
     spec.attribute("cloudgen:offset", meta.offset);
     spec.attribute("compression", "zip");
@@ -37,7 +44,8 @@ void write_slice(const std::string& path, ImageFormat format, const std::vector<
   bool ok;
   if (png) {
     std::vector<std::uint8_t> levels(values.size());
-    std::transform(values.begin(), values.end(), levels.begin(), png_level);
+    std::transform(values.begin(), values.end(), levels.begin(),
+                   [&](float d) { return png_level(d, meta.png_scale); });
     ok = out->write_image(TypeDesc::UINT8, levels.data());
   } else {
     ok = out->write_image(TypeDesc::FLOAT, values.data());

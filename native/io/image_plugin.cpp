@@ -32,7 +32,7 @@ __attribute__((visibility("default"))) int cloudgen_image_write_slice(const Clou
       throw cgio::IoError("image plugin: malformed request");
     const std::size_t n = std::size_t(s->width) * std::size_t(s->height);
     const std::vector<float> values(s->values, s->values + n);
-    const cgio::SliceMeta meta{s->params_json, s->axis, s->offset};
+    const cgio::SliceMeta meta{s->params_json, s->axis, s->offset, s->png_scale};
     cgio::write_slice(s->path, s->format == 0 ? cgio::ImageFormat::Png : cgio::ImageFormat::Exr, values, s->width,
                       s->height, meta);
     return 0;

@@ -15,7 +15,7 @@
 extern "C" {
 
 // Raised whenever CloudgenImageSlice or a function's meaning changes.
-#define CLOUDGEN_IMAGE_PLUGIN_ABI 1
+#define CLOUDGEN_IMAGE_PLUGIN_ABI 2
 
 struct CloudgenImageSlice {
   const char* path;     // the file to write (a temporary name; see atomic_file.h)
@@ -25,6 +25,7 @@ struct CloudgenImageSlice {
   const char* params_json;  // cg::params_to_json of the parameters
   char axis;                // 'x', 'y' or 'z'
   float offset;
+  float png_scale;  // S of the PNG mapping 1 − exp(−density / S) (ABI 2)
 };
 
 // "cloudgen-image <ABI> <cloudgen version>": the host loads nothing else.

@@ -91,6 +91,7 @@ void write_slice_with_plugin(const std::string& path, ImageFormat format, const 
   s.params_json = meta.params_json.c_str();
   s.axis = meta.axis;
   s.offset = meta.offset;
+  s.png_scale = meta.png_scale;
   char error[1024] = {0};
   if (plugin().write_slice(&s, error, sizeof error) != 0)
     throw IoError(error[0] ? error : ("cannot write '" + path + "': the image plugin failed"));

@@ -303,6 +303,13 @@ PyObject* py_slice(PyObject*, PyObject* args, PyObject* kwargs) {
   });
 }
 
+PyObject* py_slice_display_scale(PyObject*, PyObject* peak) {
+  return guarded([&] {
+    const double v = number_arg(peak, "peak must be a number");
+    return check(PyFloat_FromDouble(cg::slice_display_scale(static_cast<float>(v)))).release();
+  });
+}
+
 // ----------------------------------------------------------------- module ---
 
 PyMethodDef kMethods[] = {
@@ -376,6 +383,11 @@ PyMethodDef kMethods[] = {
      "Returns float32 array (height, width), row 0 at the top. Columns/rows: axis x\n"
      "-> +y / z, axis y -> +x / z, axis z -> +x / y; pixel centres are sampled.\n"
      "lod limits noise octaves to the pixel footprint. Releases the GIL."},
+    {"slice_display_scale", py_slice_display_scale, METH_O,
+     "slice_display_scale(peak, /)\n--\n\n"
+     "The display scale S of a slice whose largest density is peak: max(peak / 3,\n"
+     "0.001) (0.001 for a peak that is not finite). The eye sees grey = 1 - exp(-density / S),\n"
+     "as in the PNG of `cloudgen preview`."},
     {nullptr, nullptr, 0, nullptr},
 };
 

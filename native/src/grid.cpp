@@ -209,6 +209,10 @@ vec3 slice_point(const Model& m, const SliceSpec& s, int column, int row) {
   return {(gcoord[0] - 0.5f) * m.box[0], (gcoord[1] - 0.5f) * m.box[1], (gcoord[2] - 0.5f) * m.box[2]};
 }
 
+float slice_display_scale(float peak) {
+  return std::isfinite(peak) ? std::max(kSliceDisplayMinScale, peak / 3.0f) : kSliceDisplayMinScale;
+}
+
 std::vector<float> slice(const Model& m, const SliceSpec& s) {
   std::vector<float> image(std::size_t(s.width) * std::size_t(s.height), 0.0f);
   int ca, ra;

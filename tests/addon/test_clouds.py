@@ -49,3 +49,22 @@ def test_add_cloud_renders_and_previews(addon, scene, cloud_type, tmp_path):
     rgb = render_to_array(scene, tmp_path / f"{cloud_type}.png")
     lit = (rgb.max(axis=-1) > 0.02).mean()
     assert lit > 0.02, f"{cloud_type}: {lit:.1%} of pixels show the cloud"
+
+
+def test_preview_display_matches_the_cli_png_mapping(addon):
+    """The preview's grey is 1 - exp(-density / S), S = max(peak / 3, 0.001), the PNG
+    mapping of `cloudgen preview` (tolerance 1e-6: float32 exp). The dense cumulus
+    (peak near 48) keeps fewer than 10 % of its cloud pixels at 250/255 or above;
+    with a fixed S = 4 most of its inside is white."""
+    values = cn.slice({"preset": "cumulus"}, "y", 0.5, 96, 64)
+    peak = float(values.max())
+    assert cn.slice_display_scale(peak) == pytest.approx(max(0.001, peak / 3.0), rel=1e-6)
+    assert cn.slice_display_scale(1.5) == 0.5 and cn.slice_display_scale(float("nan")) == pytest.approx(0.001)
+    grey = addon.preview.display_pixels(values).reshape(64, 96, 4)[::-1, :, 0]
+    want = 1.0 - np.exp(-values / max(0.001, peak / 3.0))
+    assert np.abs(grey - want).max() < 1e-6, f"peak {peak}"
+    cloud = values > 0
+    white = (grey[cloud] >= 250 / 255).mean()
+    white_fixed = ((1.0 - np.exp(-values[cloud] / 4.0)) >= 250 / 255).mean()
+    print(f"cumulus preview: peak {peak:.1f}, white {white:.1%} (fixed scale 4: {white_fixed:.1%})")
+    assert white < 0.10, f"peak {peak}: {white:.1%} of the cloud is white"

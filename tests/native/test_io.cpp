@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <cstdlib>
 #include <fstream>
 #include <string>
@@ -282,8 +285,9 @@ TEST(ImageRoundTrip, ExrEqualsSliceBitExact) {
   EXPECT_EQ(std::stof(img.metadata.at("cloudgen:offset")), 0.5f);
 }
 
-// PNG: 8-bit levels equal round(255·(1 − exp(−d/4))) within ±1 level
-// (±1 allows for a different rounding of exp in float vs double).
+// PNG: 8-bit levels equal round(255·(1 − exp(−d/S))) within ±1 level (±1 allows
+// for a different rounding of exp in float vs double), for the fixed S = 4 and
+// for the automatic S = max(peak/3, 0.001) the CLI uses by default; the file names S.
 TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
   TempDir dir;
   const cg::Params params = cumulus();
@@ -294,26 +298,82 @@ TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
   s.width = 50;
   s.height = 40;
   const std::vector<float> d = cg::slice(m, s);
-  const std::string path = dir.file("slice.png");
-  cgio::write_slice(path, cgio::ImageFormat::Png, d, s.width, s.height, {cg::params_to_json(params), 'z', 0.4f});
-  const cgio::ImageData img = cgio::read_image(path);
-  ASSERT_EQ(img.width, s.width);
-  ASSERT_EQ(img.height, s.height);
-  ASSERT_EQ(img.channels, 1);
-  EXPECT_EQ(img.pixel_type, "uint8");
-  int bad = 0, lit = 0;
-  for (std::size_t i = 0; i < d.size(); ++i) {
-    const double expected = std::round(255.0 * (1.0 - std::exp(-double(d[i]) / 4.0)));
-    lit += img.pixels[i] > 0;
-    if (std::fabs(img.pixels[i] - expected) > 1.0 && ++bad <= 10)
-      ADD_FAILURE() << "pixel " << i % s.width << "," << i / s.width << ": level " << img.pixels[i] << ", density "
-                    << d[i] << " maps to " << expected << " (axis z, offset 0.4)";
+  const float peak = *std::max_element(d.begin(), d.end());
+  for (const float scale : {4.0f, cg::slice_display_scale(peak)}) {
+    const std::string path = dir.file("slice.png");
+    cgio::write_slice(path, cgio::ImageFormat::Png, d, s.width, s.height,
+                      {cg::params_to_json(params), 'z', 0.4f, scale});
+    const cgio::ImageData img = cgio::read_image(path);
+    ASSERT_EQ(img.width, s.width);
+    ASSERT_EQ(img.height, s.height);
+    ASSERT_EQ(img.channels, 1);
+    EXPECT_EQ(img.pixel_type, "uint8");
+    EXPECT_FLOAT_EQ(std::stof(img.metadata.at("cloudgen:png_scale")), scale);
+    int bad = 0, lit = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double expected = std::round(255.0 * (1.0 - std::exp(-double(d[i]) / double(scale))));
+      lit += img.pixels[i] > 0;
+      if (std::fabs(img.pixels[i] - expected) > 1.0 && ++bad <= 10)
+        ADD_FAILURE() << "pixel " << i % s.width << "," << i / s.width << ": level " << img.pixels[i] << ", density "
+                      << d[i] << " maps to " << expected << " (axis z, offset 0.4, scale " << scale << ")";
+    }
+    EXPECT_EQ(bad, 0);
+    EXPECT_GT(lit, 0) << "the slice through the cumulus should show cloud";
   }
-  EXPECT_EQ(bad, 0);
-  EXPECT_GT(lit, 0) << "the slice through the cumulus should show cloud";
   EXPECT_EQ(cgio::png_level(0.0f), 0);
   EXPECT_EQ(cgio::png_level(1e9f), 255);
+  EXPECT_EQ(cgio::png_level(8.0f, 16.0f), std::lround(255.0 * (1.0 - std::exp(-0.5))));
+  const cgio::SliceMeta bad_scale{cg::params_to_json(params), 'z', 0.4f, 0.0f};
+  EXPECT_THROW(cgio::write_slice(dir.file("bad.png"), cgio::ImageFormat::Png, d, s.width, s.height, bad_scale),
+               cgio::IoError)
+      << "a PNG display scale of 0 must be refused";
 }
+
+// Exact: the automatic display scale (cg::slice_display_scale) is max(peak/3, 0.001),
+// and 0.001 for a peak that is not finite.
+TEST(SliceDisplay, ScaleFollowsThePeak) {
+  EXPECT_EQ(cg::slice_display_scale(0.0f), 0.001f);
+  EXPECT_EQ(cg::slice_display_scale(-5.0f), 0.001f);
+  EXPECT_EQ(cg::slice_display_scale(1.5f), 0.5f);
+  EXPECT_EQ(cg::slice_display_scale(48.0f), 16.0f);
+  EXPECT_EQ(cg::slice_display_scale(std::numeric_limits<float>::quiet_NaN()), 0.001f);
+  EXPECT_EQ(cg::slice_display_scale(std::numeric_limits<float>::infinity()), 0.001f);
+}
+
+// Bound: with the automatic scale neither a dense cumulus nor a thin cirrus is a
+// block of one level. At the fixed scale 4 the cumulus's inside saturates (most
+// cloud pixels at 250+) and the cirrus stays below level 40; the automatic scale
+// must keep fewer than 10 % of the cloud's pixels at 250 or above and put the
+// peak at 240-245 (1 − e^−3 = 95 %).
+class SliceDisplayOf : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SliceDisplayOf, AutoScaleShowsTheInside) {
+  const cg::Preset* preset = cg::find_preset(GetParam());
+  ASSERT_NE(preset, nullptr) << GetParam();
+  const cg::Model m = cg::prepare(preset->params);
+  cg::SliceSpec s;
+  s.axis = 1;
+  s.offset = 0.5f;
+  s.width = 96;
+  s.height = 64;
+  const std::vector<float> d = cg::slice(m, s);
+  const float peak = *std::max_element(d.begin(), d.end());
+  const float scale = cg::slice_display_scale(peak);
+  int cloud = 0, white_fixed = 0, white_auto = 0;
+  for (const float v : d) {
+    if (v <= 0.0f) continue;
+    ++cloud;
+    white_fixed += cgio::png_level(v) >= 250;
+    white_auto += cgio::png_level(v, scale) >= 250;
+  }
+  ASSERT_GT(cloud, 0);
+  std::printf("%s slice: peak %g, scale %g, cloud pixels at 250+: fixed %.1f %%, auto %.1f %%\n", GetParam(), peak,
+              scale, 100.0 * white_fixed / cloud, 100.0 * white_auto / cloud);
+  EXPECT_LT(white_auto, cloud / 10) << GetParam() << ": peak " << peak << ", scale " << scale;
+  EXPECT_NEAR(cgio::png_level(peak, scale), 242, 3) << GetParam() << ": peak " << peak << ", scale " << scale;
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, SliceDisplayOf, ::testing::Values("cumulus", "cirrus", "stratus"));
 
 // Exact: the format follows the extension, case-insensitively.
 TEST(ImageFormat, ByExtension) {

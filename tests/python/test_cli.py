@@ -88,7 +88,8 @@ def test_help_texts():
         assert v.returncode == 0, (verb, v.stderr)
         assert v.stdout.startswith(f"usage: cloudgen {verb}"), v.stdout[:80]
     # The PNG display mapping is documented where users look for it.
-    assert "1 − exp(−density/4)" in run("preview", "--help").stdout
+    assert "1 − exp(−density/S)" in run("preview", "--help").stdout
+    assert "max(peak/3, 0.001)" in run("preview", "--help").stdout
     assert "--max-memory" in run("bake", "--help").stdout
 
 
@@ -209,6 +210,9 @@ BAD_PREVIEW_ARGS = [
     ("size zero", ["--axis", "z", "--size", "0"], ["--size"]),
     ("size text", ["--axis", "z", "--size", "big"], ["--size"]),
     ("size height", ["--axis", "z", "--size", "64x0"], ["--size"]),
+    ("png scale zero", ["--axis", "z", "--png-scale", "0"], ["--png-scale", "auto", "(0, 1e6]"]),
+    ("png scale text", ["--axis", "z", "--png-scale", "bright"], ["--png-scale", "auto"]),
+    ("png scale NaN", ["--axis", "z", "--png-scale", "nan"], ["--png-scale"]),
 ]
 
 

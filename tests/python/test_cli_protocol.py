@@ -72,6 +72,20 @@ def test_preview_json(out_dir):
     box = json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())["cumulus"]["params"]["box_size"]
     height = round(32 * box[2] / box[0])  # the box face's aspect (x, z) for axis y
     assert e["event"] == "wrote" and e["path"] == str(out_dir / "p.png") and e["size"] == [32, height], e
+    # the PNG's display scale: auto = max(peak/3, 0.001) (tolerance: float32 rounding)
+    assert e["png_scale"] == pytest.approx(max(0.001, e["max_density"] / 3.0), rel=1e-6), e
+
+
+@pytest.mark.parametrize("args,expected", [(["--png-scale", "2.5"], 2.5), (["--png-scale", "auto"], None)])
+def test_preview_json_png_scale(args, expected, out_dir):
+    r = run("preview", "--preset", "stratus", "--axis", "z", "--size", 16, "--json", *args,
+            "--output", out_dir / "p.png")
+    assert r.returncode == 0, r.stderr
+    e = cli_events.parse(r.stdout.splitlines()[0])
+    want = expected if expected is not None else max(0.001, e["max_density"] / 3.0)
+    assert e["png_scale"] == pytest.approx(want, rel=1e-6), (args, e)
+    r = run("preview", "--preset", "stratus", "--axis", "z", "--size", 16, "--json", "--output", out_dir / "p.exr")
+    assert cli_events.parse(r.stdout.splitlines()[0])["png_scale"] is None, "an EXR holds densities, no scale"
 
 
 # The naming rule (docs/cli_protocol.md): the LAST run of '#' is the zero-padded frame.

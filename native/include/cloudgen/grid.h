@@ -124,4 +124,13 @@ vec3 slice_point(const Model& m, const SliceSpec& s, int column, int row);
 // Row-major densities, height rows of width values.
 std::vector<float> slice(const Model& m, const SliceSpec& s);
 
+// How a slice is shown to the eye (the CLI's PNG, the add-on's live preview):
+// grey = 1 − exp(−density / S), with S = slice_display_scale(peak of the slice)
+// = max(peak / 3, 0.001): the slice's peak shows at 95 % grey whatever the
+// Density slider, so a dense cumulus (peak 48) is not a white block and a thin
+// cirrus (peak 0.5) is not black; the edges' ramp stays visible. A peak that is
+// not finite, zero or below 0.003 gives 0.001 (such a slice is practically empty).
+constexpr float kSliceDisplayMinScale = 0.001f;
+float slice_display_scale(float peak);
+
 }  // namespace cg
