@@ -129,8 +129,8 @@ int cmd_preview(const std::vector<std::string>& argv) {
   char line[200];
   char scale_note[48] = "";
   if (*format == cgio::ImageFormat::Png) std::snprintf(scale_note, sizeof scale_note, ", PNG scale %g", meta.png_scale);
-  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g%s, %.2f s)", s.width, s.height,
-                axis.c_str(), s.offset, peak, scale_note, seconds);
+  std::snprintf(line, sizeof line, " (%dx%d, axis %s at %g, max density %g%s, %.2f s)", s.width, s.height, axis.c_str(),
+                s.offset, peak, scale_note, seconds);
   emit("wrote",
        {{"path", output},
         {"size", {s.width, s.height}},

@@ -28,7 +28,7 @@ enum class ImageFormat { Png, Exr };
 std::optional<ImageFormat> image_format_for(const std::string& path);
 
 // The documented PNG display mapping.
-constexpr float kPngDefaultScale = 4.0f;  // S when none is given
+constexpr float kPngDefaultScale = 4.0f;                                // S when none is given
 float png_display(float density, float scale = kPngDefaultScale);       // 1 - exp(-density / scale), in [0, 1)
 std::uint8_t png_level(float density, float scale = kPngDefaultScale);  // round(255 · png_display)
 

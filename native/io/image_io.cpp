@@ -44,8 +44,7 @@ void write_slice(const std::string& path, ImageFormat format, const std::vector<
   bool ok;
   if (png) {
     std::vector<std::uint8_t> levels(values.size());
-    std::transform(values.begin(), values.end(), levels.begin(),
-                   [&](float d) { return png_level(d, meta.png_scale); });
+    std::transform(values.begin(), values.end(), levels.begin(), [&](float d) { return png_level(d, meta.png_scale); });
     ok = out->write_image(TypeDesc::UINT8, levels.data());
   } else {
     ok = out->write_image(TypeDesc::FLOAT, values.data());
