@@ -91,25 +91,31 @@ def compact_view(name, values, view, width, height):
 
 
 def companions(name, main_values, comp_values, main_centre, view, width, height, rng):
-    """[(x, y, z, scale, rot_z)] of the companion clouds: in the camera's view wedge (side)
-    or around the main cloud (below), not overlapping each other or the main cloud, their
-    lowest points at the main cloud's base height."""
+    """[(x, y, z, (sx, sy, sz), rot_z)] of the companion clouds: in the camera's view wedge
+    (side) or around the main cloud (below), not overlapping each other or the main cloud,
+    their lowest points at the main cloud's base height. Each is one of a few seeds, so each
+    gets its own proportions too (x and y 0.75-1.5 of its scale, height 0.45-1.1): four
+    seeds at one aspect read as clones ("bread loaves", blind review round 5)."""
     if name not in COMPANIONS:
         return []
     _, count, (s_lo, s_hi) = COMPANIONS[name]
     mx, my, _ = main_values["box_size"]
     cx, cy, cz = comp_values["box_size"]
-    z0, _ = vertical_extent(comp_values)
+    z0, z1 = vertical_extent(comp_values)
     base = km(BASE_KM.get(name, 1.2))
-    tx, _ = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
+    tx, ty = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
     main_r = 0.5 * math.hypot(mx, my)
     d = main_centre[1]
+    pitch = pitch_for_horizon(ty)
+    mz0, mz1 = vertical_extent(main_values)
+    rects = [_screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)]
     placed = []
     tries = 0
     while len(placed) < count and tries < 5000:
         tries += 1
         s = rng.uniform(s_lo, s_hi)
-        r = 0.5 * math.hypot(cx, cy) * s
+        sx, sy, sz = (s * rng.uniform(0.75, 1.5), s * rng.uniform(0.75, 1.5), s * rng.uniform(0.45, 1.1))
+        r = 0.5 * math.hypot(cx * sx, cy * sy)
         if view == "side":
             y = d * math.exp(rng.uniform(math.log(0.5), math.log(8.0)))
             x = rng.uniform(-1.2, 1.2) * y * tx
@@ -122,25 +128,46 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
             continue
         if any(math.hypot(x - px, y - py) < 0.8 * (r + pr) for px, py, _, _, pr in placed):
             continue
-        if view == "side" and any(_screen_overlap((x, y, r), (px, py, pr), cz * s, base)
-                                  for px, py, _, _, pr in placed):
-            continue
+        if view == "side":  # no two bodies touching in the picture: a far one under a near one
+            rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)  # reads as one stacked cloud
+            if any(_rects_touch(rect, q) for q in rects):
+                continue
         if math.hypot(x, y) < r + km(0.3):  # not over the camera
             continue
-        z = base + (0.5 - z0) * cz * s
-        placed.append((x, y, z, s, r))
-    return [(x, y, z, s, rng.uniform(0.0, 2 * math.pi)) for x, y, z, s, _ in placed]
+        z = base + (0.5 - z0) * cz * sz
+        placed.append((x, y, z, (sx, sy, sz), r))
+        if view == "side":
+            rects.append(rect)
+    return [(x, y, z, sc, rng.uniform(0.0, 2 * math.pi)) for x, y, z, sc, _ in placed]
 
 
-def _screen_overlap(a, b, height, base) -> bool:
-    """Two clouds (x, y, radius) seen from the origin looking along +y overlap in azimuth and,
-    with their bases at `base`, in elevation: the farther one's top (base + height) rises above
-    the nearer one's base (their bodies would stack in the picture)."""
-    (xa, ya, ra), (xb, yb, rb) = a, b
-    if abs(math.atan2(xa, ya) - math.atan2(xb, yb)) > 0.9 * (math.atan2(ra, ya) + math.atan2(rb, yb)):
+def _screen_rect(x, y, r, base, height, pitch):
+    """The picture-plane rectangle (tan units: left, right, bottom, top) of a cloud standing
+    on `base` with horizontal radius r and the given height, seen by the side camera (at eye
+    height on the origin, looking along +y, pitched up `pitch` degrees)."""
+    p = math.radians(pitch)
+    us, vs = [], []
+    for cx in (x - r, x + r):
+        for cy in (y - r, y + r):
+            for cz in (base - EYE, base + height - EYE):
+                depth = cy * math.cos(p) + cz * math.sin(p)
+                us.append(cx / depth)
+                vs.append((cz * math.cos(p) - cy * math.sin(p)) / depth)
+    return min(us), max(us), min(vs), max(vs)
+
+
+def _rects_touch(a, b, margin=0.15, ratio=2.5) -> bool:
+    """Whether two picture rectangles of similar width (within `ratio`) overlap once each is
+    shrunk by `margin` of its size (the rounded clouds fill their boxes' corners only partly).
+    A far cloud much smaller than a near one may pass behind it, as in a real field."""
+    wa, wb = a[1] - a[0], b[1] - b[0]
+    if max(wa, wb) > ratio * min(wa, wb):
         return False
-    near, far = sorted((ya, yb))
-    return far < near * (1 + height / base)
+    def shrunk(q):
+        dx, dy = margin * (q[1] - q[0]) / 2, margin * (q[3] - q[2]) / 2
+        return q[0] + dx, q[1] - dx, q[2] + dy, q[3] - dy
+    (al, ar, ab, at), (bl, br, bb, bt) = shrunk(a), shrunk(b)
+    return al < br and bl < ar and ab < bt and bb < at
 
 
 def widened(name, values):
@@ -249,7 +276,7 @@ def ring_mask(mat, inner: float, outer):
 
 
 def add_vdb(scene, path, mat, location, scale=1.0, rot_z=0.0, name="Cloud"):
-    """A Volume object reading `path` with material `mat`."""
+    """A Volume object reading `path` with material `mat`; scale: one factor or (x, y, z)."""
     import pathlib
 
     import bpy
@@ -260,7 +287,7 @@ def add_vdb(scene, path, mat, location, scale=1.0, rot_z=0.0, name="Cloud"):
     vol.materials.append(mat)
     obj = bpy.data.objects.new(name, vol)
     obj.location = location
-    obj.scale = (scale, scale, scale)
+    obj.scale = tuple(scale) if isinstance(scale, (tuple, list)) else (scale, scale, scale)
     obj.rotation_euler = (0.0, 0.0, rot_z)
     scene.collection.objects.link(obj)
     return obj
