@@ -126,8 +126,9 @@ TEST(Simd, LevelsAndNames) {
   // CLOUDGEN_SIMD (ctest runs this binary once per level) is obeyed when the CPU supports the level.
   cg::SimdLevel forced;
   const char* env = std::getenv("CLOUDGEN_SIMD");
-  if (env && cg::parse_simd_level(env, forced) && cg::simd_level_supported(forced))
+  if (env && cg::parse_simd_level(env, forced) && cg::simd_level_supported(forced)) {
     EXPECT_EQ(cg::simd_level(), forced) << "CLOUDGEN_SIMD=" << env;
+  }
   std::printf("active level: %s; supported:", cg::simd_level_name(cg::simd_level()));
   for (int l = 0; l < cg::kSimdLevelCount; ++l)
     if (cg::simd_level_supported(cg::SimdLevel(l))) std::printf(" %s", cg::simd_level_name(cg::SimdLevel(l)));
