@@ -102,10 +102,17 @@ def _grid_mesh(name: str, half: float, centre, cells: int):
     return mesh
 
 
-def make_ground(scene, centre=(0.0, 0.0)):
+def _check_hill_km(hill_km: float) -> float:
+    if not (0.0 <= hill_km <= 5.0):
+        raise ValueError(f"hill height must be in [0, 5] km, not {hill_km}")
+    return float(hill_km)
+
+
+def make_ground(scene, centre=(0.0, 0.0), hill_km=HILL_KM):
     """The ground object GROUND around `centre` (x, y, scene units): a grid with a Displace
-    modifier (Clouds texture, HILL_KM high) weighted to 0 near the centre. Replaced on a
-    second call (another centre)."""
+    modifier (Clouds texture, strength `hill_km`, in [0, 5] km: the highest tops rise to about
+    half of it) weighted to 0 near the centre. Replaced on a second call (another centre)."""
+    hill_km = _check_hill_km(hill_km)
     old = bpy.data.objects.get(GROUND)
     if old is not None:
         mesh = old.data if old.type == "MESH" else None
@@ -128,7 +135,7 @@ def make_ground(scene, centre=(0.0, 0.0)):
     mod.direction = "Z"
     mod.vertex_group = CLEAR_GROUP
     mod.mid_level = 0.3  # Clouds spans about 0.2-0.8: mostly rising, with some valleys
-    mod.strength = units(HILL_KM)
+    mod.strength = units(hill_km)
     mesh.materials.append(_ground_material())
     for poly in mesh.polygons:
         poly.use_smooth = True
@@ -151,9 +158,10 @@ def _haze_material(extinction: float):
     return mat
 
 
-def make_haze(scene, centre=(0.0, 0.0), top=None, visibility_km=VISIBILITY_KM):
-    """The haze box HAZE: as wide as the ground, from below the ground's lowest point to
-    `top` (scene units; default HAZE_TOP_KM). Replaced on a second call."""
+def make_haze(scene, centre=(0.0, 0.0), top=None, visibility_km=VISIBILITY_KM, hill_km=HILL_KM):
+    """The haze box HAZE: as wide as the ground, from below the ground's lowest point (its
+    valleys reach -0.3 hill_km) to `top` (scene units; default HAZE_TOP_KM). Replaced on a
+    second call."""
     top = units(HAZE_TOP_KM) if top is None else float(top)
     if not (0.0 < top <= units(20.0)):
         raise ValueError(f"haze top must be in (0, {units(20.0):g}] scene units, not {top}")
@@ -163,7 +171,7 @@ def make_haze(scene, centre=(0.0, 0.0), top=None, visibility_km=VISIBILITY_KM):
         bpy.data.objects.remove(old)
         if mesh is not None and mesh.users == 0:
             bpy.data.meshes.remove(mesh)
-    bottom = -units(HILL_KM)
+    bottom = -units(max(_check_hill_km(hill_km), HILL_KM))
     mesh = bpy.data.meshes.new(HAZE)
     bm = bmesh.new()
     bmesh.ops.create_cube(bm, size=1.0)
@@ -178,6 +186,9 @@ def make_haze(scene, centre=(0.0, 0.0), top=None, visibility_km=VISIBILITY_KM):
     return obj
 
 
-def landscape(scene, centre=(0.0, 0.0), haze_top=None, visibility_km=VISIBILITY_KM):
-    """Ground and haze around `centre`; returns (ground, haze)."""
-    return make_ground(scene, centre), make_haze(scene, centre, haze_top, visibility_km)
+def landscape(scene, centre=(0.0, 0.0), haze_top=None, visibility_km=VISIBILITY_KM, hill_km=HILL_KM):
+    """Ground and haze around `centre`; returns (ground, haze). hill_km: the hills' height
+    scale (HILL_KM by default; the gallery raises it under a low stratus so that the far hill
+    tops vanish into its base, the cue that tells a low sheet from a high one)."""
+    return (make_ground(scene, centre, hill_km),
+            make_haze(scene, centre, haze_top, visibility_km, hill_km))

@@ -42,7 +42,16 @@ import gallery_scene as gs  # noqa: E402
 SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 # veils are told apart by the sun seen through them ("as through ground glass", altostratus; a
 # milky veil the sun shines through, cirrostratus): their view from below looks toward the sun
-SUN_IN_VIEW = {"altostratus": (50.0, 0.0), "cirrostratus": (50.0, 0.0)}
+# (off-centre: dead centre the glow read as "a vignette or spotlight gradient", round 5)
+SUN_IN_VIEW = {"altostratus": (44.0, 22.0), "cirrostratus": (44.0, 22.0)}
+# the hills' height scale (km) where it is a cue: the far hill tops vanish into a low stratus
+# base (0.35 km), which tells it from altostratus ("hills disappearing into it", round 5)
+HILLS_KM = {"stratus": 1.4}
+# under a sheet that hides the sun a camera is balanced to the overcast's own light, not to the
+# sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
+# round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
+OVERCAST_BALANCE_K = 5700.0
+OVERCAST = {"stratus", "nimbostratus", "altostratus"}
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
 SIDE_LIT_AZIMUTH = 90.0
@@ -172,7 +181,10 @@ def shot(name, view, sun, values, baked, out_png, args):
         sl.daylight(scene, elevation, 0.0)
     else:
         sl.daylight(scene, *sun_direction(name, view, sun, compact="main" in baked))
-    render_cloud._addon_file("landscape").landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name))
+    if name in OVERCAST and hasattr(scene.view_settings, "use_white_balance"):
+        scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
+    ls = render_cloud._addon_file("landscape")
+    ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM))
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
     return render_cloud.render(scene, out_png)
 

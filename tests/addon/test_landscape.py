@@ -76,6 +76,24 @@ def test_landscape_made_once_and_clear_at_the_camera(addon, scene):
     assert scatter.inputs["Density"].default_value == pytest.approx(want, rel=1e-6)
 
 
+def test_hill_height_scales_the_hills(addon, scene):
+    """landscape(hill_km=1.0) raises the far hills 4x (tolerance: the evaluated maximum within
+    10 % of 4x the default's, the same texture) and the haze box reaches below the lowest
+    valley; a height outside [0, 5] km is refused naming it."""
+    ls = addon.landscape
+    tops = {}
+    for km in (ls.HILL_KM, 1.0):
+        ground, haze = ls.landscape(scene, hill_km=km)
+        tops[km] = max(z for _, _, z in _evaluated_z(ground))
+        lowest = min(z for _, _, z in _evaluated_z(ground))
+        assert haze.location.z - haze.scale.z / 2 <= lowest, (km, lowest, haze.location.z, haze.scale.z)
+    ratio = tops[1.0] / tops[ls.HILL_KM]
+    assert ratio == pytest.approx(1.0 / ls.HILL_KM, rel=0.1), (tops, ratio)
+    for bad in (-0.1, 6.0, float("nan")):
+        with pytest.raises(ValueError, match="hill height"):
+            ls.landscape(scene, hill_km=bad)
+
+
 def test_bad_haze_refused(addon):
     ls = addon.landscape
     for bad in (0.0, -1.0, 1.0e4, float("nan")):
