@@ -1,0 +1,44 @@
+"""The gallery's scene geometry (scripts/gallery_scene.py; no Blender needed): companion
+clouds each have their own proportions within the stated ranges (exact bounds), and side-on no
+two of similar picture size touch (the round-5 "snowman": a far cloud under a near one)."""
+import random
+import sys
+
+import cloudgen_native as cn
+import numpy as np
+import pytest
+from test_cli import REPO_ROOT
+
+sys.path.insert(0, str(REPO_ROOT / "scripts"))
+import gallery_scene as gs  # noqa: E402
+
+COMPACT = sorted(gs.COMPANIONS)
+
+
+def _values(name):
+    return gs.widened(name, dict(cn.defaults(), **cn.presets()[name]["params"]))
+
+
+@pytest.mark.parametrize("name", COMPACT)
+@pytest.mark.parametrize("view", ["side", "below"])
+def test_companions_vary_and_do_not_stack(name, view):
+    values = _values(name)
+    comp = dict(cn.defaults(), **cn.presets()[gs.COMPANIONS[name][0]]["params"])
+    centre, _, pitch, _ = gs.compact_view(name, values, view, 640, 360)
+    placed = gs.companions(name, values, comp, centre, view, 640, 360, random.Random(f"{name}-{view}"))
+    assert len(placed) == gs.COMPANIONS[name][1], (name, view, len(placed))
+    lo, hi = gs.COMPANIONS[name][2]
+    aspects = set()
+    for _, _, _, (sx, sy, sz), _ in placed:
+        assert lo * 0.75 <= min(sx, sy) and max(sx, sy) <= hi * 1.5 and lo * 0.45 <= sz <= hi * 1.1, (sx, sy, sz)
+        aspects.add((round(sx / sz, 2), round(sy / sz, 2)))
+    assert len(aspects) == len(placed), f"{name} {view}: companions share proportions {aspects}"
+    if view == "side":
+        z0, z1 = gs.vertical_extent(comp)
+        base = gs.km(gs.BASE_KM.get(name, 1.2))
+        rects = []
+        for x, y, _, (sx, sy, sz), _ in placed:
+            r = 0.5 * np.hypot(comp["box_size"][0] * sx, comp["box_size"][1] * sy)
+            rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
+            assert not any(gs._rects_touch(rect, q) for q in rects), (name, (x, y), rect)
+            rects.append(rect)
