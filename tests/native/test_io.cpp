@@ -285,19 +285,23 @@ TEST(ImageRoundTrip, ExrEqualsSliceBitExact) {
   EXPECT_EQ(std::stof(img.metadata.at("cloudgen:offset")), 0.5f);
 }
 
+static cg::SliceSpec slice_spec(int axis, float offset, int width, int height) {
+  cg::SliceSpec s;
+  s.axis = axis;
+  s.offset = offset;
+  s.width = width;
+  s.height = height;
+  return s;
+}
+
 // PNG: 8-bit levels equal round(255·(1 − exp(−d/S))) within ±1 level (±1 allows
 // for a different rounding of exp in float vs double), for the fixed S = 4 and
 // for the automatic S = max(peak/3, 0.001) the CLI uses by default; the file names S.
 TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
   TempDir dir;
   const cg::Params params = cumulus();
-  const cg::Model m = cg::prepare(params);
-  cg::SliceSpec s;
-  s.axis = 2;
-  s.offset = 0.4f;
-  s.width = 50;
-  s.height = 40;
-  const std::vector<float> d = cg::slice(m, s);
+  const cg::SliceSpec s = slice_spec(2, 0.4f, 50, 40);
+  const std::vector<float> d = cg::slice(cg::prepare(params), s);
   const float peak = *std::max_element(d.begin(), d.end());
   for (const float scale : {4.0f, cg::slice_display_scale(peak)}) {
     const std::string path = dir.file("slice.png");
@@ -350,13 +354,7 @@ class SliceDisplayOf : public ::testing::TestWithParam<const char*> {};
 TEST_P(SliceDisplayOf, AutoScaleShowsTheInside) {
   const cg::Preset* preset = cg::find_preset(GetParam());
   ASSERT_NE(preset, nullptr) << GetParam();
-  const cg::Model m = cg::prepare(preset->params);
-  cg::SliceSpec s;
-  s.axis = 1;
-  s.offset = 0.5f;
-  s.width = 96;
-  s.height = 64;
-  const std::vector<float> d = cg::slice(m, s);
+  const std::vector<float> d = cg::slice(cg::prepare(preset->params), slice_spec(1, 0.5f, 96, 64));
   const float peak = *std::max_element(d.begin(), d.end());
   const float scale = cg::slice_display_scale(peak);
   int cloud = 0, white_fixed = 0, white_auto = 0;
