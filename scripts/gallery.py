@@ -189,6 +189,23 @@ def shot(name, view, sun, values, baked, out_png, args):
     return render_cloud.render(scene, out_png)
 
 
+# Every shot a run may ask for, in a fixed order: a file's number depends only on its type,
+# view and sun (and --seed), never on which --types and --shots this run renders, so runs
+# into one folder never overwrite each other's files (a --shots below-high run once took the
+# number of another run's side-on stratus).
+STANDARD_SHOTS = [("side", "low"), ("below", "high"), ("side", "behind")]
+
+
+def file_numbers(all_types, names, shots, seed):
+    """[((type, view, sun), number)] for the jobs of this run, numbered over every type and
+    every standard shot (plus any other shot asked for) in one shuffle."""
+    universe = STANDARD_SHOTS + [s for s in shots if s not in STANDARD_SHOTS]
+    everything = [(n, v, s) for n in all_types for v, s in universe]
+    numbers = list(range(1, len(everything) + 1))
+    random.Random(seed).shuffle(numbers)
+    return [(job, k) for job, k in zip(everything, numbers) if job[0] in names and (job[1], job[2]) in shots]
+
+
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     import cloudgen_native as cn
@@ -198,14 +215,10 @@ def main(argv=None):
     unknown = sorted(set(names) - set(presets))
     if unknown:
         raise SystemExit(f"gallery: error: unknown types {unknown}; known: {sorted(presets)}")
-    shots = [s.split("-") for s in args.shots.split(",") if s]
+    shots = [tuple(s.split("-")) for s in args.shots.split(",") if s]
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    # numbers are drawn over every type, so re-rendering some types keeps the others' files
-    everything = [(n, v, s) for n in sorted(presets) for v, s in shots]
-    numbers = list(range(1, len(everything) + 1))
-    random.Random(args.seed).shuffle(numbers)
-    jobs, numbers = zip(*[(job, k) for job, k in zip(everything, numbers) if job[0] in names]) or ((), ())
+    jobs, numbers = zip(*file_numbers(sorted(presets), names, shots, args.seed)) or ((), ())
     key_path = pathlib.Path(args.names) if args.names else out / "key.json"
     key = json.loads(key_path.read_text()) if key_path.exists() else {}
     with tempfile.TemporaryDirectory(prefix="cloudgen-gallery-") as tmp:

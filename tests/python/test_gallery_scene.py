@@ -42,3 +42,17 @@ def test_companions_vary_and_do_not_stack(name, view):
             rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
             assert not any(gs._rects_touch(rect, q) for q in rects), (name, (x, y), rect)
             rects.append(rect)
+
+
+def test_file_numbers_do_not_depend_on_the_run():
+    """A file's number depends only on (type, view, sun) and the seed: two runs into one
+    folder with different --types or --shots never share a number (exact)."""
+    import gallery
+
+    types = sorted(cn.presets())
+    both = dict(gallery.file_numbers(types, types, [("side", "low"), ("below", "high")], 0))
+    below = dict(gallery.file_numbers(types, ["cirrostratus"], [("below", "high")], 0))
+    side = dict(gallery.file_numbers(types, ["stratus"], [("side", "low")], 0))
+    assert below == {("cirrostratus", "below", "high"): both[("cirrostratus", "below", "high")]}
+    assert side == {("stratus", "side", "low"): both[("stratus", "side", "low")]}
+    assert len(set(both.values())) == len(both) == 2 * len(types)
