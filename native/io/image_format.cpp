@@ -20,8 +20,7 @@ std::optional<ImageFormat> image_format_for(const std::string& path) {
 
 float png_display(float density, float scale) {
   const float d = std::isfinite(density) ? std::max(density, 0.0f) : 0.0f;
-  const float s = std::isfinite(scale) && scale > 0.0f ? scale : kPngDefaultScale;
-  return 1.0f - std::exp(-d / s);
+  return 1.0f - std::exp(-d / scale);
 }
 
 std::uint8_t png_level(float density, float scale) {

@@ -27,16 +27,15 @@ enum class ImageFormat { Png, Exr };
 // The format for a file name by its extension, or nothing.
 std::optional<ImageFormat> image_format_for(const std::string& path);
 
-// The documented PNG display mapping.
-constexpr float kPngDefaultScale = 4.0f;                                // S when none is given
-float png_display(float density, float scale = kPngDefaultScale);       // 1 - exp(-density / scale), in [0, 1)
-std::uint8_t png_level(float density, float scale = kPngDefaultScale);  // round(255 · png_display)
+// The documented PNG display mapping; scale (S) finite and > 0 (write_slice checks it).
+float png_display(float density, float scale);       // 1 - exp(-density / scale), in [0, 1)
+std::uint8_t png_level(float density, float scale);  // round(255 · png_display)
 
 struct SliceMeta {
   std::string params_json;
   char axis = 'z';
   float offset = 0.5f;
-  float png_scale = kPngDefaultScale;  // S of the PNG mapping (> 0, finite)
+  float png_scale = 4.0f;  // S of the PNG mapping (> 0, finite; 4: the fixed S before it was recorded)
 };
 
 }  // namespace cgio

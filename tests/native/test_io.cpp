@@ -324,8 +324,8 @@ TEST(ImageRoundTrip, PngFollowsDocumentedMapping) {
     EXPECT_EQ(bad, 0);
     EXPECT_GT(lit, 0) << "the slice through the cumulus should show cloud";
   }
-  EXPECT_EQ(cgio::png_level(0.0f), 0);
-  EXPECT_EQ(cgio::png_level(1e9f), 255);
+  EXPECT_EQ(cgio::png_level(0.0f, 4.0f), 0);
+  EXPECT_EQ(cgio::png_level(1e9f, 4.0f), 255);
   EXPECT_EQ(cgio::png_level(8.0f, 16.0f), std::lround(255.0 * (1.0 - std::exp(-0.5))));
   const cgio::SliceMeta bad_scale{cg::params_to_json(params), 'z', 0.4f, 0.0f};
   EXPECT_THROW(cgio::write_slice(dir.file("bad.png"), cgio::ImageFormat::Png, d, s.width, s.height, bad_scale),
@@ -361,7 +361,7 @@ TEST_P(SliceDisplayOf, AutoScaleShowsTheInside) {
   for (const float v : d) {
     if (v <= 0.0f) continue;
     ++cloud;
-    white_fixed += cgio::png_level(v) >= 250;
+    white_fixed += cgio::png_level(v, 4.0f) >= 250;
     white_auto += cgio::png_level(v, scale) >= 250;
   }
   ASSERT_GT(cloud, 0);
