@@ -71,6 +71,8 @@ Model prepare(const Params& p) {
   m.top_height = p.get(TOP_HEIGHT);
   m.lean = p.get(LEAN);
   m.sheet = p.get(SHEET);
+  m.anvil = p.get(ANVIL);
+  m.anvil_height = p.get(ANVIL_HEIGHT);
   m.stretch = p.get(STRETCH);
   m.shear = p.get(SHEAR);
   m.warp = p.get(WARP);
@@ -93,6 +95,13 @@ namespace {
 float min_horizontal(float a, float b, float sheet) {
   const float t = (a <= 0.0f && b >= 0.0f) ? 0.0f : (std::fabs(a) < std::fabs(b) ? a : b);
   return cg_horizontal(t, sheet);
+}
+
+// The interval of k t over t in [a, b] and k in [k1, k2] (k > 0): the product is monotone in each, so
+// its extremes are at the corners.
+void scaled_interval(float a, float b, float k1, float k2, float& lo, float& hi) {
+  lo = std::min(std::min(a * k1, a * k2), std::min(b * k1, b * k2));
+  hi = std::max(std::max(a * k1, a * k2), std::max(b * k1, b * k2));
 }
 
 }  // namespace
@@ -121,11 +130,16 @@ float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
   const float hc_lo = std::clamp(ha, 0.0f, 1.0f), hc_hi = std::clamp(hb, 0.0f, 1.0f);
   const float s_lo = hc_lo * hc_lo, s_hi = hc_hi * hc_hi;
   const float shift_max = std::max(lean * s_lo, lean * s_hi), shift_min = std::min(lean * s_lo, lean * s_hi);
-  const float tx_lo = t_lo[0] - shift_max, tx_hi = t_hi[0] - shift_min;
+  // anvil: both T scaled by k(h_l) (h_l not clamped to [0, 1] here, as in the kernel), non-increasing in h_l
+  const float k_min = cg_anvil_narrowing(std::min(std::max(hb, base), top), m.anvil, m.anvil_height, m.top_height);
+  const float k_max = cg_anvil_narrowing(std::min(std::max(ha, base), top), m.anvil, m.anvil_height, m.top_height);
+  float tx_lo, tx_hi, ty_lo, ty_hi;
+  scaled_interval(t_lo[0] - shift_max, t_hi[0] - shift_min, k_min, k_max, tx_lo, tx_hi);
+  scaled_interval(t_lo[1], t_hi[1], k_min, k_max, ty_lo, ty_hi);
   const float s_max = core_max(m, hl_lo, hl_hi) - penalty - min_horizontal(tx_lo, tx_hi, m.sheet) -
-                      min_horizontal(t_lo[1], t_hi[1], m.sheet);
+                      min_horizontal(ty_lo, ty_hi, m.sheet);
   // 1e-4 (relative to the largest term) absorbs the rounding differences between this bound and the kernel
-  const float scale = 1.0f + penalty + tx_lo * tx_lo + tx_hi * tx_hi + t_lo[1] * t_lo[1] + t_hi[1] * t_hi[1];
+  const float scale = 1.0f + penalty + tx_lo * tx_lo + tx_hi * tx_hi + ty_lo * ty_lo + ty_hi * ty_hi;
   return s_max + 0.5f * std::fabs(m.distortion) + 1e-4f * scale;
 }
 

@@ -60,6 +60,7 @@ cg::Params live_base(int mode) {
   p.set(cg::WIND_STRENGTH, 0.3f);
   p.set(cg::TURRET_INFLUENCE, 0.3f);  // else Turret Size has no effect
   p.set(cg::WARP, 0.3f);              // else Warp Size has no effect
+  p.set(cg::ANVIL, 0.3f);             // else Anvil Height has no effect
   const float wind[3] = {1.0f, 0.5f, -0.25f};
   p.set(cg::WIND_DIRECTION, wind, 3);
   p.set(cg::TIME, 7.25f);

@@ -76,6 +76,15 @@ std::vector<Named> parameter_sets() {
   p.set(cg::SHEET, 0.4f);
   p.set(cg::BASE_HEIGHT, 0.3f);
   sets.push_back({"half sheet with a base", p});
+  // The anvil: narrowed below its height, under a ceiling and leaning; then with no ceiling, the flare
+  // squeezed into its 1 % minimum at the top (an Anvil Height of 1).
+  p = cg::find_preset("cumulonimbus")->params;
+  sets.push_back({"cumulonimbus anvil", p});
+  p = cumulus();
+  p.set(cg::ANVIL, 1.0f);
+  p.set(cg::ANVIL_HEIGHT, 1.0f);
+  p.set(cg::LEAN, -0.7f);
+  sets.push_back({"anvil at the very top", p});
   return sets;
 }
 

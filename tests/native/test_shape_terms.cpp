@@ -83,8 +83,9 @@ TEST(ShapeTerms, FlatBaseAndTop) {
     const vec3 g = cg::generated(m, q);
     const float h = cg::cg_height(g[2], m.cloud_scale);
     const float d = cg::density(m, q);
-    if (h < 0.1f - slack || h > 0.8f + slack)
+    if (h < 0.1f - slack || h > 0.8f + slack) {
       ASSERT_EQ(d, 0.0f) << "h = " << h << " at " << cgtest::str(q) << " outside [base, top]";
+    }
     const float tx = (2 * g[0] - 1) / m.cloud_scale, ty = (2 * g[1] - 1) / m.cloud_scale;
     if (h > 0.1f + slack && h < 0.13f && tx * tx + ty * ty < 0.25f) {
       ++near_base;
@@ -139,7 +140,9 @@ TEST(ShapeTerms, SheetFillsTheBoxAndFadesAtItsSides) {
     }
     if (rad < 0.4f) in_n += 1, in_c += column > 0;
     if (rad > 0.4f && rad < 0.55f) mid_n += 1, mid_c += column > 0;
-    if (rad >= 1.0f) ASSERT_EQ(column, 0.0f);
+    if (rad >= 1.0f) {
+      ASSERT_EQ(column, 0.0f);
+    }
   }
   const double cin = double(in_c) / in_n, cmid = double(mid_c) / mid_n;
   EXPECT_GT(cin, 0.3);
@@ -174,6 +177,54 @@ TEST(ShapeTerms, LeanMovesTheTopDownwind) {
   const double bottom = mean_x(leaning, 0.0f, 0.25f) - mean_x(straight, 0.0f, 0.25f);
   EXPECT_GT(top, 0.4 * reach) << "top moved " << top;
   EXPECT_LT(std::fabs(bottom), 0.15 * reach) << "bottom moved " << bottom;
+}
+
+TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
+  // Anvil a, Anvil Height h_a, ceiling c: the shape at (T_x, T_y) equals the shape without the anvil at
+  // (k T_x, k T_y), k = 1 + 4 a (1 - u)^2, u rising linearly from 0 at h_a to 1 at c (tolerance 2e-6: the
+  // two sides round the scaled coordinate differently). So the tower is k times narrower, its core
+  // (T = 0) is the curve's value exactly, and at the ceiling the shape is the one without the anvil.
+  cg::Params p = cumulus();
+  p.set(cg::LEAN, 0.3f);
+  p.set(cg::TOP_HEIGHT, 0.9f);
+  const cg::Model plain = cg::prepare(p);
+  p.set(cg::ANVIL, 0.5f);
+  p.set(cg::ANVIL_HEIGHT, 0.6f);
+  const cg::Model anvil = cg::prepare(p);
+  const float cs = plain.cloud_scale;
+  Rng rng(29);
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const vec3 g = {rng.uniformf(0.0, 1.0), rng.uniformf(0.0, 1.0), rng.uniformf(0.0, 1.0)};
+    const float h = cg::cg_height(g[2], cs);
+    const float hl = std::min(h, 0.9f);
+    const float u = std::clamp((hl - 0.6f) / (0.9f - 0.6f), 0.0f, 1.0f);
+    const float k = 1.0f + 4.0f * 0.5f * (1.0f - u) * (1.0f - u);
+    // the same shape without the anvil, at the point whose leaned T is k times this one's
+    const float tx = cg::cg_lean_x((2 * g[0] - 1) / cs, h, 0.3f) * k;
+    const float lean_shift = (2 * g[0] - 1) / cs - cg::cg_lean_x((2 * g[0] - 1) / cs, h, 0.3f);
+    const vec3 g2 = {((tx + lean_shift) * cs + 1) / 2, ((2 * g[1] - 1) * k + 1) / 2, g[2]};
+    const float want = cg::shape_at_generated(plain, g2);
+    const float got = cg::shape_at_generated(anvil, g);
+    ASSERT_NEAR(got, want, 2e-6f * std::max(1.0f, std::fabs(want)))
+        << "g " << cgtest::str(g) << " h " << h << " k " << k;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 20000);
+  // the core of the tower keeps the profile's value, with and without the anvil, bit for bit
+  for (float h : {0.2f, 0.5f}) {
+    const vec3 g = {0.5f + 0.5f * cs * 0.3f * h * h, 0.5f, (cs * (2 * h - 1) + 1) / 2};
+    const float with = cg::shape_at_generated(anvil, g), without = cg::shape_at_generated(plain, g);
+    EXPECT_NEAR(with, without, 1e-6f) << "core at h " << h;
+  }
+  // Anvil 0 is the identity, whatever Anvil Height (bit for bit)
+  p.set(cg::ANVIL, 0.0f);
+  p.set(cg::ANVIL_HEIGHT, 0.1f);
+  const cg::Model off = cg::prepare(p);
+  for (int i = 0; i < 2000; ++i) {
+    const vec3 q = inside(plain, rng);
+    ASSERT_TRUE(same_bits(cg::density(off, q), cg::density(plain, q))) << "at " << cgtest::str(q);
+  }
 }
 
 TEST(ShapeTerms, StretchAndShearWarpTheNoisePoint) {

@@ -50,7 +50,7 @@ inline float shape_at_generated(const Model& m, vec3 g) {
       m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height))
                         : 0.0f;
   return cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value, m.base_height, m.top_height, m.lean,
-                  m.sheet);
+                  m.sheet, m.anvil, m.anvil_height);
 }
 
 // Shape term (S(h) - T_x^2 - T_y^2 with the shape terms) at a local point.

@@ -42,6 +42,8 @@ CG_MODEL_FIELD(float, base_height, Always)                       // flat floor a
 CG_MODEL_FIELD(float, top_height, Always)
 CG_MODEL_FIELD(float, lean, Always)
 CG_MODEL_FIELD(float, sheet, Always)
+CG_MODEL_FIELD(float, anvil, Always)                             // narrowing below the anvil: 1 + 4 anvil
+CG_MODEL_FIELD(float, anvil_height, Always)                      // where the anvil starts, in h
 CG_MODEL_FIELD(float, stretch, Always)                           // noise warp
 CG_MODEL_FIELD(float, shear, Always)
 CG_MODEL_FIELD(float, warp, Always)                              // domain warp, warp cells

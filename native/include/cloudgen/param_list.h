@@ -56,6 +56,13 @@ CG_PARAM(LEAN, "lean", "Lean", "Cloud Main", Float, (0.0f), -2.0f, 2.0f, -1.0f, 
 CG_PARAM(SHEET, "sheet", "Sheet", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1, "",
          "1 makes a layer: no round outline, the sheet fills the box and fades out near its sides; 0 a single "
          "cloud.")
+CG_PARAM(ANVIL, "anvil", "Anvil", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1, "",
+         "Spreads the top into an anvil: below Anvil Height the shape is narrowed 1 + 4 x this times, so the "
+         "ceiling is up to 5 times as wide as the tower under it; 0 none.")
+CG_PARAM(ANVIL_HEIGHT, "anvil_height", "Anvil Height", "Cloud Main", Float, (0.75f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
+         "fraction of the cloud's height",
+         "Where the anvil starts to spread: from here to the ceiling (Top Height, or the top) the tower widens "
+         "into the anvil.")
 CG_PARAM(OVERALL_SCALE, "overall_scale", "Overall Scale", "Cloud Noise", Float, (1.0f), 0.01f, 20.0f, 0.1f, 4.0f,
          0, 1, "", "Scales the whole texture: larger values give smaller, more numerous features.")
 CG_PARAM(WORLEY_INFLUENCE, "worley_influence", "Worley Influence", "Cloud Noise", Float, (0.8f), 0.0f, 1.0f, 0.0f,

@@ -359,7 +359,7 @@ int shape_stage(const Model& m, const vec3* points, int count, std::size_t first
         m.shape_mode == 1 ? cg_curve_eval(m.curve, cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height))
                           : 0.0f;
     const float s = cg_shape(g, m.cloud_scale, m.shape_mode, m.shape_exponent, curve_value, m.base_height, m.top_height,
-                             m.lean, m.sheet);
+                             m.lean, m.sheet, m.anvil, m.anvil_height);
     if (cg_shape_proves_empty(s, m.distortion)) continue;
     L.x[n] = p[0];
     L.y[n] = p[1];

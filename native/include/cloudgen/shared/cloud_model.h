@@ -45,6 +45,9 @@ CG_NAMESPACE_BEGIN
 #define CG_LEAN_LIMIT CG_FLOAT(1000.0)     /* kernel clamp of Lean */
 #define CG_SHEET_MARGIN CG_FLOAT(0.5)      /* a sheet fades over the outer half of its half-width */
 #define CG_SHEET_FALLOFF 2                 /* the sheet's fade term where |T| = 1 (the cloud's edge) */
+#define CG_ANVIL_SPREAD 4                  /* at Anvil 1 the shape below the anvil is narrowed 1 + 4 = 5 times */
+#define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
+#define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
 #define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
@@ -133,18 +136,36 @@ CG_FN float cg_lean_x(float tx, float h, float lean) {
   return tx - clamp(lean, -CG_LEAN_LIMIT, CG_LEAN_LIMIT) * (hc * hc);
 }
 
-/* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(T_x') - H(T_y)
- * with T = (2G - 1) / cloud_scale, h_l = cg_shape_height, T_x' leaned. At the
- * defaults (base -0.5, top 1.5, lean 0, sheet 0) this is S(h) - T_x^2 - T_y^2
- * bit for bit wherever the density can be > 0. `curve_value` is the curve at
- * clamp(h_l, 0, 1) (mode 1). */
+/* The anvil's narrowing factor k(h_l) >= 1 by which the horizontal shape
+ * coordinates are multiplied: k = 1 + 4 anvil (1 - u)^2, u = (h_l - a) / (c - a)
+ * clamped to [0, 1], with a the Anvil Height (in [0, 1]) and c the ceiling
+ * min(top, 1) (at least a + 0.01). Below a the whole shape is narrowed k times
+ * (the tower); from a to the ceiling the narrowing fades out, fast at first
+ * (a thick anvil with a sloping underside) and level at the ceiling (a rounded
+ * lip), so the anvil spreads to the curve's full radius. The tower keeps the
+ * curve's core value and with it its crisp edge and billows (a thin tower made
+ * by the curve alone has a core of r^2, which the noise erodes). Non-increasing
+ * in h_l; exactly 1 at Anvil 0. */
+CG_FN float cg_anvil_narrowing(float hl, float anvil, float anvil_height, float top_height) {
+  float a = clamp(anvil_height, 0, 1);
+  float c = max(min(clamp(top_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT), CG_FLOAT(1.0)), a + CG_ANVIL_MIN_DEPTH);
+  float u = clamp((hl - a) / (c - a), 0, 1);
+  return 1 + CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT) * ((1 - u) * (1 - u));
+}
+
+/* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
+ * with T = (2G - 1) / cloud_scale, h_l = cg_shape_height, T_x' leaned, k the
+ * anvil's narrowing. At the defaults (base -0.5, top 1.5, lean 0, sheet 0,
+ * anvil 0) this is S(h) - T_x^2 - T_y^2 bit for bit wherever the density can
+ * be > 0. `curve_value` is the curve at clamp(h_l, 0, 1) (mode 1). */
 CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value, float base_height,
-                     float top_height, float lean, float sheet) {
+                     float top_height, float lean, float sheet, float anvil, float anvil_height) {
   float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   float h = cg_height(g[2], cloud_scale);
-  float tx = cg_lean_x((2 * g[0] - 1) * inv, h, lean);
-  float ty = (2 * g[1] - 1) * inv;
   float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
+  float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
+  float tx = cg_lean_x((2 * g[0] - 1) * inv, h, lean) * k;
+  float ty = (2 * g[1] - 1) * inv * k;
   float s = cg_profile(hl, mode, exponent, curve_value) - cg_floor_penalty(h, base_height, top_height);
   return s - cg_horizontal(tx, sheet) - cg_horizontal(ty, sheet);
 }
