@@ -112,13 +112,14 @@ def bake_all(name, values, work, args):
     import cloudgen_native as cn
 
     w = int(args.size.lower().split("x")[0])
-    if gs.is_layer(values["box_size"]):
+    if gs.is_layer(values):
         levels = []
         for k, (lv, res, inner, outer) in enumerate(gs.layer_levels(name, values, w)):
             path = bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res, ring=(inner, outer))
             levels.append((path, inner, outer))
         return {"levels": levels}
-    out = {"main": bake(name, values, os.path.join(work, f"{name}.vdb"), args.resolution), "companions": []}
+    main_res = args.resolution * gs.MAIN_RESOLUTION_SCALE.get(name, 1)
+    out = {"main": bake(name, values, os.path.join(work, f"{name}.vdb"), main_res), "companions": []}
     if name in gs.COMPANIONS:
         comp = gs.COMPANIONS[name][0]
         cv = dict(cn.defaults(), **cn.presets()[comp]["params"])

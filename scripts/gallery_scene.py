@@ -27,7 +27,12 @@ COMPANIONS = {"cumulus": ("cumulus", 14, (0.45, 1.0)),
               "cumulus_congestus": ("cumulus", 10, (0.5, 1.1)),
               "cumulonimbus": ("cumulus", 8, (0.7, 1.4))}
 COMPANION_SEEDS = 4
-LAYER_RATIO = 0.3
+# the main cloud's bake resolution as a multiple of --resolution: the cumulonimbus's box is 45 km
+# wide for its anvil, its tower a sixth of that (at 256 voxels a voxel would be 176 m)
+MAIN_RESOLUTION_SCALE = {"cumulonimbus": 2}
+# side views: the camera at least this many box widths from the main cloud (the cumulonimbus's
+# anvil reaches only the middle of its wide box; at 1.2 the storm filled half the frame's width)
+SIDE_DISTANCE = {"cumulonimbus": 0.8}
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
@@ -38,8 +43,10 @@ SIDE_LENS, BELOW_LENS = 35.0, 24.0
 MAIN_TOP_FROM_BOTTOM = 0.86  # side views: the main compact cloud's top this far up
 
 
-def is_layer(box) -> bool:
-    return box[2] < LAYER_RATIO * max(box[0], box[1])
+def is_layer(values) -> bool:
+    """A layer is a Sheet (no round outline; it is baked in nested rings); a flat box alone is
+    not one (the cumulonimbus's box is wide for its anvil)."""
+    return values.get("sheet", 0.0) >= 0.5
 
 
 def km(v: float) -> float:
@@ -70,6 +77,18 @@ def vertical_extent(values) -> tuple:
     return 1.0 - (rows[-1] + 1) / 192.0, 1.0 - rows[0] / 192.0  # row 0 is the top
 
 
+def horizontal_middle(values) -> float:
+    """The middle of the cloud's x extent as a fraction of the box width, from the same
+    cross-section (0.5 for a cloud centred in its box; a leaning anvil moves it downwind)."""
+    import cloudgen_native as cn
+    import numpy as np
+
+    cols = np.flatnonzero(cn.slice(values, "y", 0.5, 192, 96).max(axis=0) > 0)
+    if cols.size == 0:
+        return 0.5
+    return (cols[0] + cols[-1] + 1) / 2 / 192.0
+
+
 def compact_view(name, values, view, width, height):
     """For a compact type: (main cloud centre, camera location, pitch degrees, lens)."""
     bx, by, bz = values["box_size"]
@@ -86,8 +105,12 @@ def compact_view(name, values, view, width, height):
     pitch = pitch_for_horizon(ty)
     top_elevation = math.radians(pitch) + math.atan((2 * MAIN_TOP_FROM_BOTTOM - 1) * ty)
     # the near side of the box (half its depth nearer than the centre) is what reaches highest
-    d = max(top / math.tan(top_elevation) + by / 2, 1.2 * max(bx, by))
-    return (0.0, d, centre_z), (0.0, 0.0, EYE), pitch, SIDE_LENS
+    d = max(top / math.tan(top_elevation) + by / 2, SIDE_DISTANCE.get(name, 1.2) * max(bx, by))
+    # the cloud's own middle (not its box's) in the middle of the frame, where it is off by more
+    # than 5 % of the box (the cumulonimbus's anvil; the others stay where round 6 had them)
+    off = horizontal_middle(values) - 0.5
+    centre_x = -off * bx if abs(off) > 0.05 else 0.0
+    return (centre_x, d, centre_z), (0.0, 0.0, EYE), pitch, SIDE_LENS
 
 
 def companions(name, main_values, comp_values, main_centre, view, width, height, rng):
@@ -174,7 +197,7 @@ def widened(name, values):
     """A layer's parameters with its box widened (never narrowed) so that, seen from its
     centre, its far edge lies FAR_EDGE_DEG above the horizon."""
     box = list(values["box_size"])
-    if not is_layer(box):
+    if not is_layer(values):
         return values
     need = 2 * km(BASE_KM.get(name, 2.5)) / math.tan(math.radians(FAR_EDGE_DEG))
     if max(box[0], box[1]) >= need:

@@ -29,8 +29,8 @@ voxel size (material step rate 1, as the add-on's bake does; --step-rate
 overrides it); OSL is off (the VDB needs no script nodes). The camera is
 placed from the box and the lens
 (`frame_camera`): a compact or tall cloud is seen from the side, slightly
-below its middle, far enough back that the whole box fits; a layer cloud (a
-box much wider than tall) is lifted overhead and seen from below at an angle,
+below its middle, far enough back that the whole box fits; a layer cloud (Sheet
+of 0.5 or more) is lifted overhead and seen from below at an angle,
 its far edge just above the bottom of the frame.
 """
 from __future__ import annotations
@@ -83,7 +83,6 @@ def parse_args(argv):
 
 DEFAULT_MATERIAL = {"anisotropy": 0.3, "color": [1.0, 1.0, 1.0], "step_rate": 0.2}
 LENS_MM = 50.0
-LAYER_RATIO = 0.3  # a box whose height is below this fraction of its width is a layer
 
 
 def resolve_material(args):
@@ -187,7 +186,8 @@ def build_scene(values, args):
     cam_data.lens = LENS_MM
     cam = bpy.data.objects.new("Camera", cam_data)
     scene.collection.objects.link(cam)
-    location, rotation, cloud_z = frame_camera(box, w, h, cam_data.sensor_width)
+    location, rotation, cloud_z = frame_camera(box, w, h, cam_data.sensor_width,
+                                               layer=values.get("sheet", 0.0) >= 0.5)
     cam.location, cam.rotation_euler = location, rotation
     cloud.location.z = cloud_z
     scene.camera = cam
@@ -244,16 +244,17 @@ def vdb_object(path, box_obj, mat):
     return obj
 
 
-def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM):
+def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM, layer=False):
     """Camera (location, euler rotation) and the cloud box's centre height for a
-    box of `box` scene units seen in a width x height image. The camera looks
-    along +y (the box's x side faces it)."""
+    box of `box` scene units seen in a width x height image; `layer`: a sheet,
+    seen from below (a flat box alone is not one: the cumulonimbus's is wide for
+    its anvil). The camera looks along +y (the box's x side faces it)."""
     # half the field of view, as tangents (Blender's AUTO sensor fit: the sensor spans the longer side)
     t = (sensor_mm / 2) / lens_mm
     tan_x, tan_z = (t, t * height / width) if width >= height else (t * width / height, t)
     bx, by, bz = box
     wide = max(bx, by)
-    if bz < LAYER_RATIO * wide:
+    if layer:
         # a layer: overhead, seen from below, the camera under the near part of the layer
         altitude = 0.35 * wide              # of the layer's base above the camera
         back = 0.1 * wide                   # camera this far inside the near edge

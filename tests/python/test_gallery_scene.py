@@ -56,3 +56,27 @@ def test_file_numbers_do_not_depend_on_the_run():
     assert below == {("cirrostratus", "below", "high"): both[("cirrostratus", "below", "high")]}
     assert side == {("stratus", "side", "low"): both[("stratus", "side", "low")]}
     assert len(set(both.values())) == len(both) == 2 * len(types)
+
+
+def test_layers_are_the_sheets_not_the_flat_boxes():
+    """The cumulonimbus's box is wider than 3.3 times its height (for its anvil) and is still a
+    compact cloud: baked whole and seen from its side, not in rings overhead (it was, for a run)."""
+    for name, preset in cn.presets().items():
+        values = dict(cn.defaults(), **preset["params"])
+        assert gs.is_layer(values) == (values["sheet"] >= 0.5), name
+    cb = dict(cn.defaults(), **cn.presets()["cumulonimbus"]["params"])
+    assert not gs.is_layer(cb) and cb["box_size"][2] < 0.3 * cb["box_size"][0]
+
+
+def test_side_view_centres_the_leaning_anvil():
+    """The anvil leans downwind (+x): the side view moves the storm so that its own middle, not its
+    box's, is in the middle of the frame (to the slice's 1/192 of the box); the symmetric types stay."""
+    for name in COMPACT:
+        values = _values(name)
+        middle = gs.horizontal_middle(values)
+        centre, _, _, _ = gs.compact_view(name, values, "side", 640, 360)
+        if name == "cumulonimbus":
+            assert middle > 0.55, middle
+            assert centre[0] == pytest.approx((0.5 - middle) * values["box_size"][0]), (name, middle, centre)
+        else:
+            assert abs(middle - 0.5) <= 0.05 and centre[0] == 0.0, (name, middle, centre)
