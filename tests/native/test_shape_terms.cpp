@@ -217,6 +217,22 @@ TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
     const float with = cg::shape_at_generated(anvil, g), without = cg::shape_at_generated(plain, g);
     EXPECT_NEAR(with, without, 1e-6f) << "core at h " << h;
   }
+  // the anvil's calm: the density is eq. 3.4 with F x (1 - 0.75 u) (exact: the kernel's own operations),
+  // so at the ceiling a quarter of F, below Anvil Height all of it
+  int calmed = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const vec3 q = inside(anvil, rng);
+    const vec3 g = cg::generated(anvil, q);
+    const float s = cg::shape_at_generated(anvil, g);
+    if (cg::cg_shape_proves_empty(s, anvil.distortion)) continue;
+    const float hl = std::min(cg::cg_height(g[2], cs), 0.9f);
+    const float u = std::clamp((hl - 0.6f) / (0.9f - 0.6f), 0.0f, 1.0f);
+    const float f = anvil.distortion * (1.0f - 0.75f * u);
+    const float want = cg::cg_cloud_main(s, cg::noise_at(anvil, q), f, anvil.density, anvil.edge_width);
+    ASSERT_NEAR(cg::density(anvil, q), want, 1e-6f * std::max(1.0f, want)) << "at " << cgtest::str(q) << " u " << u;
+    calmed += u > 0.5f;
+  }
+  EXPECT_GT(calmed, 50);
   // Anvil 0 is the identity, whatever Anvil Height (bit for bit)
   p.set(cg::ANVIL, 0.0f);
   p.set(cg::ANVIL_HEIGHT, 0.1f);

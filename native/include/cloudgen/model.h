@@ -71,14 +71,21 @@ inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
                         m.noise_whisp, m.turret_influence, lod.worley_octaves, lod.perlin_octaves, m.seed);
 }
 
+// The distortion F at generated coordinates g: F x the anvil's calm (F itself at Anvil 0).
+inline float distortion_at_generated(const Model& m, vec3 g) {
+  const float hl = cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height);
+  return m.distortion * cg_anvil_calm(hl, m.anvil, m.anvil_height, m.top_height);
+}
+
 // Density at a local point: 0 outside the box and wherever the shape proves
-// it empty (no noise evaluated there), else eq. 3.4 clamped at 0 × Density.
+// it empty (no noise evaluated there; the proof uses |F|, which bounds the calmed F
+// too), else eq. 3.4 clamped at 0 × Density.
 inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   const vec3 g = generated(m, p);
   if (!inside_box(g)) return 0.0f;
   const float s = shape_at_generated(m, g);
   if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
-  return cg_cloud_main(s, noise_at(m, p, lod), m.distortion, m.density, m.edge_width);
+  return cg_cloud_main(s, noise_at(m, p, lod), distortion_at_generated(m, g), m.density, m.edge_width);
 }
 
 // An upper bound of the unscaled density (shape + |F|/2) over the axis-aligned

@@ -48,6 +48,7 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_SPREAD 4                  /* at Anvil 1 the shape below the anvil is narrowed 1 + 4 = 5 times */
 #define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
 #define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
+#define CG_ANVIL_CALM CG_FLOAT(0.75)       /* at the ceiling the anvil's distortion is 1 - 0.75 = 1/4 of F */
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
 #define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
@@ -146,11 +147,24 @@ CG_FN float cg_lean_x(float tx, float h, float lean) {
  * curve's core value and with it its crisp edge and billows (a thin tower made
  * by the curve alone has a core of r^2, which the noise erodes). Non-increasing
  * in h_l; exactly 1 at Anvil 0. */
-CG_FN float cg_anvil_narrowing(float hl, float anvil, float anvil_height, float top_height) {
+CG_FN float cg_anvil_u(float hl, float anvil_height, float top_height) {
   float a = clamp(anvil_height, 0, 1);
   float c = max(min(clamp(top_height, -CG_HEIGHT_LIMIT, CG_HEIGHT_LIMIT), CG_FLOAT(1.0)), a + CG_ANVIL_MIN_DEPTH);
-  float u = clamp((hl - a) / (c - a), 0, 1);
+  return clamp((hl - a) / (c - a), 0, 1);
+}
+
+CG_FN float cg_anvil_narrowing(float hl, float anvil, float anvil_height, float top_height) {
+  float u = cg_anvil_u(hl, anvil_height, top_height);
   return 1 + CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT) * ((1 - u) * (1 - u));
+}
+
+/* The anvil's calm: the factor of the distortion F at height h_l, 1 - 0.75 u min(4 anvil, 1).
+ * An anvil is ice spread flat under the tropopause: its top is smooth, not billowed like the
+ * tower, so the billows fade from the Anvil Height to a quarter at the ceiling. Exactly 1 at
+ * Anvil 0 and below the Anvil Height; in (0, 1], so |F| still bounds the distortion term. */
+CG_FN float cg_anvil_calm(float hl, float anvil, float anvil_height, float top_height) {
+  float on = min(CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT), CG_FLOAT(1.0));
+  return 1 - CG_ANVIL_CALM * cg_anvil_u(hl, anvil_height, top_height) * on;
 }
 
 /* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
