@@ -33,6 +33,13 @@ MAIN_RESOLUTION_SCALE = {"cumulonimbus": 2}
 # side views: the camera at least this many box widths from the main cloud (the cumulonimbus's
 # anvil reaches only the middle of its wide box; at 1.2 the storm filled half the frame's width)
 SIDE_DISTANCE = {"cumulonimbus": 0.8}
+# below views: aim at this fraction of the cloud's height, at this elevation (degrees), from at
+# least this many box widths; default (0.3, 55, 0.6). The congestus is taller than wide: from
+# under it (round 6) its base filled the frame and it read as a cumulus; from 4 km at 30 degrees
+# its base sits low in the frame and its towers rise to the top edge. The cumulonimbus's box is
+# 45 km wide for its anvil: 0.6 of it put the camera 27 km away, looking 10 degrees up; from
+# 16 km at 25 degrees its tower fills the frame and the anvil overhangs the top.
+BELOW_AIM = {"cumulus_congestus": (0.45, 30.0, 0.6), "cumulonimbus": (0.5, 25.0, 0.35)}
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
@@ -98,8 +105,9 @@ def compact_view(name, values, view, width, height):
     top = base + (z1 - z0) * bz
     if view == "below":
         tx, ty = tans(BELOW_LENS, width, height)
-        aim = base + 0.3 * (z1 - z0) * bz
-        d = max(aim / math.tan(math.radians(55.0)), 0.6 * max(bx, by))
+        aim_at, elevation, widths = BELOW_AIM.get(name, (0.3, 55.0, 0.6))
+        aim = base + aim_at * (z1 - z0) * bz
+        d = max(aim / math.tan(math.radians(elevation)), widths * max(bx, by))
         return (0.0, d, centre_z), (0.0, 0.0, EYE), math.degrees(math.atan2(aim - EYE, d)), BELOW_LENS
     tx, ty = tans(SIDE_LENS, width, height)
     pitch = pitch_for_horizon(ty)

@@ -47,15 +47,17 @@ def test_preset_params_in_range(name):
         d = decls[key]
         values = [value] if d["count"] == 1 else value
         assert all(d["min"] <= v <= d["max"] for v in values), f"{name}: {key}={value} outside [{d['min']}, {d['max']}]"
-    # a single cloud stays compact (render cost): at most 80 units, 20 km at the presets' 250 m per
-    # unit — the cumulonimbus is 16 km wide (64 units), its anvil spreading downwind; a layer (Sheet 1)
-    # is a wide, thin box that runs out of the frame, but not beyond 500 units (the noise lattices
-    # repeat every 256 cells)
+    # a single cloud stays compact (render cost): at most 200 units, 50 km at the presets' 250 m per
+    # unit — the cumulonimbus's box is 45 km wide (180 units) for its anvil, blown downwind (the
+    # procedural render_cloud.py frame, 320x240 at 8 spp on one thread, took 3-6 s against 25-44 s
+    # for the old 64-unit storm, both while a render shared the machine: the camera stands further
+    # back, and the shape's early exit skips the empty box); a layer (Sheet 1) is a wide, thin box
+    # that runs out of the frame, but not beyond 500 units (the noise lattices repeat every 256 cells)
     box_size = preset["params"]["box_size"]
     if preset["params"].get("sheet", 0.0) >= 1.0:
         assert max(box_size) <= 500.0 and box_size[2] <= 0.1 * max(box_size), f"{name}: layer box {box_size}"
     else:
-        assert max(box_size) <= 80.0, f"{name}: box larger than 80 units (render cost)"
+        assert max(box_size) <= 200.0, f"{name}: box larger than 200 units (render cost)"
     # the core accepts the preset, by name and by value, and the box has density inside
     cn.density({"preset": name}, np.zeros((1, 3)))
     cn.resolve_params(preset["params"])

@@ -80,3 +80,25 @@ def test_side_view_centres_the_leaning_anvil():
             assert centre[0] == pytest.approx((0.5 - middle) * values["box_size"][0]), (name, middle, centre)
         else:
             assert abs(middle - 0.5) <= 0.05 and centre[0] == 0.0, (name, middle, centre)
+
+
+def test_congestus_from_below_shows_its_towers():
+    """From below, the congestus is seen from 4 km at 30 degrees, so that its summit (the top of the
+    slice's extent, over the box's centre) is inside the frame, with a margin of 5 degrees, and its
+    base in the lower half: the tall tower shows (from right under it, round 6, its base filled the
+    frame and it read as a cumulus)."""
+    import math
+
+    name = "cumulus_congestus"
+    values = _values(name)
+    centre, cam, pitch, lens = gs.compact_view(name, values, "below", 640, 360)
+    _, ty = gs.tans(lens, 640, 360)
+    half = math.degrees(math.atan(ty))
+    z0, z1 = gs.vertical_extent(values)
+    bz = values["box_size"][2]
+    top = centre[2] + (z1 - 0.5) * bz
+    base = centre[2] + (z0 - 0.5) * bz
+    top_elevation = math.degrees(math.atan2(top - cam[2], centre[1] - cam[1]))
+    base_elevation = math.degrees(math.atan2(base - cam[2], centre[1] - cam[1]))
+    assert top_elevation < pitch + half - 5.0, (top_elevation, pitch, half)
+    assert pitch - half < base_elevation < pitch, (base_elevation, pitch, half)
