@@ -1,12 +1,30 @@
 """Every cloud type: Add Cloud makes a cloud that renders (48x36, 4 spp, Cycles
 CPU + OSL) and whose preview equals cloudgen_native.slice() of the same
 parameters exactly (tolerance 0: the same core, the same inputs)."""
+import math
+
 import cloudgen_native as cn
 import numpy as np
 import pytest
 from addon_helpers import add_camera_and_sun, render_to_array
 
 TYPES = sorted(cn.presets())
+
+
+def box_rect(scene, obj, width, height):
+    """The pixels (x0, x1, y0, y1; rows from the bottom, as load_rgb) of the frame that the
+    object's box covers in the scene camera's view; the whole frame when a corner is behind
+    the camera (a layer seen from inside its box's extent)."""
+    from bpy_extras.object_utils import world_to_camera_view
+    from mathutils import Vector
+
+    pts = [world_to_camera_view(scene, scene.camera, obj.matrix_world @ Vector(c)) for c in obj.bound_box]
+    if any(p.z <= 0 for p in pts):
+        return 0, width, 0, height
+    xs, ys = [p.x for p in pts], [p.y for p in pts]
+    x0, x1 = max(0, int(min(xs) * width)), min(width, math.ceil(max(xs) * width))
+    y0, y1 = max(0, int(min(ys) * height)), min(height, math.ceil(max(ys) * height))
+    return x0, x1, y0, y1
 
 
 @pytest.mark.parametrize("cloud_type", TYPES)
@@ -47,8 +65,14 @@ def test_add_cloud_renders_and_previews(addon, scene, cloud_type, tmp_path):
 
     add_camera_and_sun(scene, obj)
     rgb = render_to_array(scene, tmp_path / f"{cloud_type}.png")
-    lit = (rgb.max(axis=-1) > 0.02).mean()
-    assert lit > 0.02, f"{cloud_type}: {lit:.1%} of pixels show the cloud"
+    # Tolerance: at least 5 % of the pixels of the box's picture show the cloud (brighter than 0.02
+    # in a black world). Measured in 4.5: 40-100 % for the other presets; 9.6 % for the cumulonimbus,
+    # whose 45 x 28 km box is mostly air around its tower and anvil plate (1.5 % of the whole frame,
+    # which the test used to count, against 2 %).
+    x0, x1, y0, y1 = box_rect(scene, obj, rgb.shape[1], rgb.shape[0])
+    lit = (rgb[y0:y1, x0:x1].max(axis=-1) > 0.02).mean()
+    print(f"{cloud_type}: {lit:.1%} of the box's {x1 - x0}x{y1 - y0} pixels show the cloud")
+    assert lit > 0.05, f"{cloud_type}: {lit:.1%} of the box's {x1 - x0}x{y1 - y0} pixels show the cloud"
 
 
 def test_preview_display_matches_the_cli_png_mapping(addon):
