@@ -8,7 +8,8 @@ denoising on in a build without a denoiser. Each line goes to stderr
 (`cloudgen: warning: ...`; once per render, not per frame) and, with a window, to
 the status bar. In background mode a cloud that **would render empty stops the
 render** with exit code 1 — its VDB is missing (a farm that lost the `cloudgen/`
-folder), or it is procedural where OSL cannot run (a build without OSL, Eevee,
+folder), or it lies wholly beyond Eevee's Volumetrics End (a 100 m default; the
+cumulonimbus is 45 km wide), or it is procedural where OSL cannot run (a build without OSL, Eevee,
 OSL off, a GPU other than OptiX) or its shaders were never compiled — because a
 farm trusts the exit code and must not deliver empty skies. The environment
 CLOUDGEN_ALLOW_EMPTY_CLOUDS=1 (or the older CLOUDGEN_ALLOW_MISSING_VDB=1) renders
@@ -134,6 +135,29 @@ def stale(cloud, scene) -> bool:
     return bool(now) and now != (on_disk or keys[index])
 
 
+def eevee_range(scene, cloud):
+    """(empty, line) when Eevee, which draws volumes only between its Volumetrics Start and End
+    (view depths from the camera), leaves the cloud's box out: entirely (empty True) or in
+    part (empty False); None when it does not (another engine, no camera, inside the range).
+    The depth is linear in the point, so the box's extremes are at its corners."""
+    eevee = getattr(scene, "eevee", None)
+    if not scene.render.engine.startswith("BLENDER_EEVEE") or scene.camera is None or eevee is None:
+        return None
+    start, end = eevee.volumetric_start, eevee.volumetric_end
+    to_camera = scene.camera.matrix_world.inverted()
+    from mathutils import Vector  # noqa: PLC0415 - with bpy only
+
+    depths = [-(to_camera @ (cloud.matrix_world @ Vector(c))).z for c in cloud.bound_box]
+    near, far = min(depths), max(depths)
+    if near >= start and far <= end:
+        return None
+    gone = far < start or near > end
+    return gone, (f"{cloud.name} {'renders empty' if gone else 'is cut off'}: Eevee draws volumes only "
+                  f"{start:g}–{end:g} m from the camera and the cloud lies {max(near, 0.0):.0f}–{far:.0f} m "
+                  f"away; set Render Properties → Volumetrics → End to at least {far:.0f} m (or render in "
+                  "Cycles)")
+
+
 def problems(scene):
     """(empty, warnings): lines about the scene's clouds; `empty` are the clouds the render
     would show as nothing (a baked VDB not there, a procedural cloud where OSL cannot run or
@@ -161,6 +185,9 @@ def problems(scene):
             elif stale(cloud, scene):
                 warnings.append(f"{cloud.name}: the bake is stale (the parameters changed since): "
                                 "Bake to VDB again")
+            cut = None if absent else eevee_range(scene, cloud)
+            if cut is not None:
+                (empty if cut[0] else warnings).append(cut[1])
             continue
         if cloud.hide_render:
             continue

@@ -93,3 +93,34 @@ def test_allow_empty_environment(addon, monkeypatch, env):
     for name, value in env.items():
         monkeypatch.setenv(name, value)
     assert addon.checks.allowed_empty() == ("1" in env.values()), env
+
+
+def test_baked_cloud_beyond_eevee_volumetrics_end(addon, scene, cloud):
+    """Eevee draws volumes only between Volumetrics Start and End (view depth; 100 m by
+    default): a baked cloud wholly beyond End renders empty (a farm render stops on it; the
+    Debian 3.4 farm rendered a cumulonimbus 300 m away as an empty grey frame, exit 0), one
+    that End cuts through is a warning, one inside is fine. Exact depths from the box's corners."""
+    import bpy
+
+    assert bpy.ops.cloudgen.bake_vdb(resolution=12) == {"FINISHED"}
+    engines = [e.identifier for e in scene.render.bl_rna.properties["engine"].enum_items]
+    scene.render.engine = "BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in engines else "BLENDER_EEVEE"
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    cam.rotation_euler = (1.5707963, 0.0, 0.0)  # looking along +y
+    scene.eevee.volumetric_start, scene.eevee.volumetric_end = 0.1, 100.0
+    half = cloud.dimensions.y / 2
+    for y, want in ((50.0, ([], [])), (100.0, "cut"), (100.0 + half + 1.0, "empty")):
+        cam.location = (cloud.location.x, cloud.location.y - y, cloud.location.z)
+        bpy.context.view_layer.update()
+        empty, warnings = _lines(addon, scene)
+        if want == "cut":
+            assert not empty and len(warnings) == 1 and "is cut off" in warnings[0], (y, empty, warnings)
+        elif want == "empty":
+            assert len(empty) == 1 and f"{cloud.name} renders empty: Eevee" in empty[0], (y, empty, warnings)
+            assert "Volumetrics → End to at least" in empty[0], empty
+        else:
+            assert (empty, warnings) == want, (y, empty, warnings)
+    scene.eevee.volumetric_end = 1000.0
+    assert _lines(addon, scene) == ([], [])
