@@ -17,6 +17,8 @@ Scale: 1 scene unit = addon/landscape.py's METRES_PER_UNIT (250 m), the presets'
 """
 import math
 
+from render_cloud import is_layer  # the one layer rule (gallery.py reads it from here)
+
 EYE = 0.017  # eye height, scene units (1.7 m)
 # cloud base above the ground, km: typical WMO heights
 BASE_KM = {"cumulus": 1.2, "cumulus_congestus": 1.2, "cumulonimbus": 1.0, "stratocumulus": 1.0,
@@ -50,10 +52,6 @@ SIDE_LENS, BELOW_LENS = 35.0, 24.0
 MAIN_TOP_FROM_BOTTOM = 0.86  # side views: the main compact cloud's top this far up
 
 
-def is_layer(values) -> bool:
-    """A layer is a Sheet (no round outline; it is baked in nested rings); a flat box alone is
-    not one (the cumulonimbus's box is wide for its anvil)."""
-    return values.get("sheet", 0.0) >= 0.5
 
 
 def km(v: float) -> float:

@@ -187,7 +187,7 @@ def build_scene(values, args):
     cam = bpy.data.objects.new("Camera", cam_data)
     scene.collection.objects.link(cam)
     location, rotation, cloud_z = frame_camera(box, w, h, cam_data.sensor_width,
-                                               layer=values.get("sheet", 0.0) >= 0.5)
+                                               layer=is_layer(values))
     cam.location, cam.rotation_euler = location, rotation
     cloud.location.z = cloud_z
     scene.camera = cam
@@ -242,6 +242,12 @@ def vdb_object(path, box_obj, mat):
     vol.materials.append(mat)
     bpy.context.scene.collection.objects.link(obj)
     return obj
+
+
+def is_layer(values) -> bool:
+    """A layer is a Sheet (no round outline): framed from below here, baked in nested rings by the
+    gallery. A flat box alone is not one (the cumulonimbus's is wide for its anvil)."""
+    return values.get("sheet", 0.0) >= 0.5
 
 
 def frame_camera(box, width, height, sensor_mm=36.0, lens_mm=LENS_MM, layer=False):
