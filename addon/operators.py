@@ -1,8 +1,8 @@
-"""Operators: Add Cloud, Refresh Preview, Render Settings, Time from Frame.
+"""Operators: Add Cloud, Add Rain, Refresh Preview, Render Settings, Time from Frame.
 All of them work in background mode (no window, area or region needed)."""
 import bpy
 
-from . import blender_nodes, bridge, checks, cloud_object, nodes, preview, props, volume_material
+from . import blender_nodes, bridge, checks, cloud_object, nodes, precipitation, preview, props, volume_material
 from .panel import tooltip
 
 # Volume bounces for clouds: a thick cloud scatters light many times before it leaves; with
@@ -65,6 +65,46 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
         if problem:
             self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "
                                      "— render its baked VDB instead")
+        return {"FINISHED"}
+
+
+class CLOUDGEN_OT_add_rain(bpy.types.Operator):
+    """Add rain under the active cloud, from its base to the ground (z = 0): a shaft under a
+    storm's tower, veils under a layer (docs/lighting.md, Rain)"""
+    bl_idname = "cloudgen.add_rain"
+    bl_label = "Add Rain"
+    bl_options = {"REGISTER", "UNDO"}
+
+    visibility_km: bpy.props.FloatProperty(
+        name="Visibility (km)", min=precipitation.VISIBILITY_KM[0], max=precipitation.VISIBILITY_KM[1],
+        default=precipitation.DEFAULT_VISIBILITY_KM,
+        description="How far one sees through the rain (extinction 3.912 / V): heavy rain 1-2 km, "
+                    "moderate about 4; unset: the cloud type's own")
+    patchiness: bpy.props.FloatProperty(
+        name="Patchiness", min=0.0, max=1.0, default=precipitation.DEFAULT_LOOK["patchiness"],
+        description="0: an even veil; 1: curtains with dry air between; unset: the cloud type's own")
+
+    def execute(self, context):
+        cloud = context.view_layer.objects.active
+        if not cloud_object.is_cloud(cloud):
+            self.report({"ERROR"}, "Add Rain: the active object is not a cloud (Add Cloud makes one)")
+            return {"CANCELLED"}
+        look = dict(precipitation.LOOKS.get(cloud.get(cloud_object.TYPE_KEY, ""), precipitation.DEFAULT_LOOK))
+        for key in ("visibility_km", "patchiness"):
+            if self.properties.is_property_set(key):
+                look[key] = getattr(self, key)
+        values = cloud_object.params_from_object(cloud)
+        centre = tuple(cloud.matrix_world.translation)
+        cx, cy, hx, hy, top = precipitation.rain_box(values, centre)
+        try:
+            rain = precipitation.add_rain(context.scene, (cx, cy), hx, hy, top, name=f"{cloud.name} Rain",
+                                          rot_z=cloud.matrix_world.to_euler().z, **look)
+        except ValueError as exc:
+            self.report({"ERROR"}, f"Add Rain: {exc}. Move {cloud.name} up so that its base is above "
+                                   "the ground")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"{rain.name}: {2 * hx:.3g} x {2 * hy:.3g} units, from the ground to "
+                              f"{top:.3g}, visibility {look['visibility_km']:g} km")
         return {"FINISHED"}
 
 
@@ -200,7 +240,7 @@ def menu_add(self, context):
 
 MENUS = ("VIEW3D_MT_volume_add", "VIEW3D_MT_mesh_add")
 
-classes = (CLOUDGEN_OT_add_cloud, CLOUDGEN_OT_refresh_preview, CLOUDGEN_OT_render_settings,
+classes = (CLOUDGEN_OT_add_cloud, CLOUDGEN_OT_add_rain, CLOUDGEN_OT_refresh_preview, CLOUDGEN_OT_render_settings,
            CLOUDGEN_OT_time_from_frame, CLOUDGEN_OT_parameter_help)
 
 

@@ -70,6 +70,7 @@ class CLOUDGEN_PT_main(SidebarPanel, bpy.types.Panel):
         if obj is not None:
             wrapped_label(layout, f"{obj.name}: {obj[cloud_object.TYPE_KEY].replace('_', ' ')}",
                           "OUTLINER_OB_VOLUME", context)
+            layout.operator(operators.CLOUDGEN_OT_add_rain.bl_idname)
         layout.operator(operators.CLOUDGEN_OT_render_settings.bl_idname, icon="SCENE")
         light_setup.draw(layout, context)
 

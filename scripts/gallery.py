@@ -186,6 +186,10 @@ def shot(name, view, sun, values, baked, out_png, args):
         scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
     ls = render_cloud._addon_file("landscape")
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM))
+    rain = render_cloud._addon_file("precipitation")
+    if name in rain.LOOKS:  # what falls from a rain cloud: under a layer, over the whole landscape
+        box = rain.rain_box(values, centre, ls.units(ls.TERRAIN_HALF_KM))
+        rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
     return render_cloud.render(scene, out_png)
 

@@ -42,6 +42,11 @@ SIDE_DISTANCE = {"cumulonimbus": 0.8}
 # 45 km wide for its anvil: 0.6 of it put the camera 27 km away, looking 10 degrees up; from
 # 16 km at 25 degrees its tower fills the frame and the anvil overhangs the top.
 BELOW_AIM = {"cumulus_congestus": (0.45, 30.0, 0.6), "cumulonimbus": (0.5, 25.0, 0.35)}
+# below views of low grey layers: pitched this much (degrees; default 50) so that the ground shows:
+# the far hill tops vanish into a stratus's base, the rain under a nimbostratus hides the
+# distance. Looking 50 degrees up, both were a plain grey field and were named as one another
+# (round 8: stratus as altostratus, nimbostratus as stratus).
+LAYER_BELOW_PITCH = {"stratus": 20.0, "nimbostratus": 20.0}
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
@@ -246,7 +251,7 @@ def layer_view(name, values, view, width, height):
     base = km(BASE_KM.get(name, 2.5))
     centre = (0.0, 0.0, base + bz / 2)
     if view == "below":
-        return centre, (0.0, 0.0, EYE), 50.0, BELOW_LENS
+        return centre, (0.0, 0.0, EYE), LAYER_BELOW_PITCH.get(name, 50.0), BELOW_LENS
     _, ty = tans(SIDE_LENS, width, height)
     return centre, (0.0, 0.0, EYE), pitch_for_horizon(ty), SIDE_LENS
 
