@@ -12,16 +12,19 @@ CPU. Shots:
 
   side   side-on toward the horizon, a 35 mm lens at eye height, the horizon 12 % up the frame
   below  from the ground looking up, a 24 mm lens pitched 50° up (altostratus and
-         cirrostratus: toward the sun, how veils are told apart)
+         cirrostratus: toward the sun, how veils are told apart; stratus and
+         nimbostratus: 20° up, the hills and the rain in view)
   behind side-on, the sun low and right behind the cloud's upper edge (silver lining)
 
 and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°);
 side-on under the low sun, compact clouds are lit from the side and thin ice layers have the
-sun ahead (sun_direction).
+sun ahead, and the altostratus has its sun in the frame (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
-Landscape (hilly ground, haze), 32 volume bounces, OpenImageDenoise where Blender has it
-(GALLERY_NO_DENOISE=1: off). Files are numbered in a shuffled order (NN.png, no type in the
-name) so a reviewer sees no hint; the key is written to --names (default OUT/key.json).
+Landscape (hilly ground, haze), rain under the rain clouds (addon/precipitation.py), 32
+volume bounces, OpenImageDenoise where Blender has it (GALLERY_NO_DENOISE=1: off). Under the
+grey overcasts the camera is balanced and exposed for the overcast's own light (meter()).
+Files are numbered in a shuffled order (NN.png, no type in the name) so a reviewer sees no
+hint; the key is written to --names (default OUT/key.json).
 1 scene unit is 250 m.
 """
 import argparse
@@ -44,14 +47,25 @@ SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 # milky veil the sun shines through, cirrostratus): their view from below looks toward the sun
 # (off-centre: dead centre the glow read as "a vignette or spotlight gradient", round 5)
 SUN_IN_VIEW = {"altostratus": (44.0, 22.0), "cirrostratus": (44.0, 22.0)}
+# side-on under the low sun, the altostratus has its sun in the frame too (upper right; the
+# frame spans -4 to 27 degrees up, +-27 across): a watery disc low in a grey sheet names it;
+# with the sun behind the camera it was a plain grey field, named stratus (round 8). Balanced
+# to that sun (its 4,000 K, sky_light), not to the overcast: at 5,700 K it came out sepia
+SUN_IN_VIEW_SIDE = {"altostratus": (18.0, 16.0)}
 # the hills' height scale (km) where it is a cue: the far hill tops vanish into a low stratus
 # base (0.35 km), which tells it from altostratus ("hills disappearing into it", round 5)
-HILLS_KM = {"stratus": 1.4}
+HILLS_KM = {"stratus": 2.5, "nimbostratus": 1.0}
 # under a sheet that hides the sun a camera is balanced to the overcast's own light, not to the
 # sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
 # round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
 OVERCAST_BALANCE_K = 5700.0
 OVERCAST = {"stratus", "nimbostratus", "altostratus"}
+# ... and it is exposed for the overcast's own light, as a camera's averaging meter would: the
+# frame's mean scene-linear luminance to OVERCAST_KEY (a grey day a little under middle grey,
+# 0.18). Exposed for the hidden sun (sky_light.exposure_for) the nimbostratus with its rain came
+# out at display levels 18-48, near black, its rain streaks invisible (320x180 test)
+OVERCAST_KEY = 0.12
+METER_SIZE, METER_SAMPLES = (96, 54), 4
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
 SIDE_LIT_AZIMUTH = 90.0
@@ -67,10 +81,39 @@ def sun_direction(name, view, sun, compact):
     layers with the sun ahead."""
     if view == "below" and name in SUN_IN_VIEW:
         return SUN_IN_VIEW[name]
+    if view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE:
+        return SUN_IN_VIEW_SIDE[name]
     elevation, azimuth = SUNS[sun]
     if view == "side" and sun == "low":
         azimuth = SIDE_LIT_AZIMUTH if compact else SUN_AHEAD.get(name, azimuth)
     return elevation, azimuth
+
+
+def meter(scene, render_cloud):
+    """Exposure (stops) that brings the frame's mean scene-linear luminance (Rec.709) to
+    OVERCAST_KEY: a METER_SIZE render at METER_SAMPLES spp, not denoised, to EXR (scene-linear:
+    no view transform). The scene's resolution, samples and output format are restored."""
+    import bpy
+    import numpy as np
+
+    r, c, im = scene.render, scene.cycles, scene.render.image_settings
+    saved = (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
+             im.file_format, im.color_depth)
+    r.resolution_x, r.resolution_y = METER_SIZE
+    r.resolution_percentage, c.samples, c.use_denoising = 100, METER_SAMPLES, False
+    try:
+        with tempfile.TemporaryDirectory(prefix="cloudgen-meter-") as tmp:
+            path = os.path.join(tmp, "meter.exr")
+            render_cloud.render(scene, path)
+            img = bpy.data.images.load(path)
+            px = np.array(img.pixels[:], dtype=np.float64).reshape(-1, 4)[:, :3]
+            bpy.data.images.remove(img)
+    finally:
+        (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
+         im.file_format) = saved[:6]
+        im.color_depth = saved[6]
+    y = float(np.nan_to_num(px @ np.array([0.2126, 0.7152, 0.0722])).mean())
+    return math.log2(OVERCAST_KEY / max(y, 1e-6))
 
 
 def parse_args(argv):
@@ -182,7 +225,8 @@ def shot(name, view, sun, values, baked, out_png, args):
         sl.daylight(scene, elevation, 0.0)
     else:
         sl.daylight(scene, *sun_direction(name, view, sun, compact="main" in baked))
-    if name in OVERCAST and hasattr(scene.view_settings, "use_white_balance"):
+    sun_seen = view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE  # its light, its balance
+    if name in OVERCAST and not sun_seen and hasattr(scene.view_settings, "use_white_balance"):
         scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
     ls = render_cloud._addon_file("landscape")
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM))
@@ -190,6 +234,9 @@ def shot(name, view, sun, values, baked, out_png, args):
     if name in rain.LOOKS:  # what falls from a rain cloud: under a layer, over the whole landscape
         box = rain.rain_box(values, centre, ls.units(ls.TERRAIN_HALF_KM))
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
+    if name in OVERCAST:
+        scene.view_settings.exposure = meter(scene, render_cloud)
+        print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
     return render_cloud.render(scene, out_png)
 

@@ -102,3 +102,23 @@ def test_congestus_from_below_shows_its_towers():
     base_elevation = math.degrees(math.atan2(base - cam[2], centre[1] - cam[1]))
     assert top_elevation < pitch + half - 5.0, (top_elevation, pitch, half)
     assert pitch - half < base_elevation < pitch, (base_elevation, pitch, half)
+
+
+@pytest.mark.parametrize("name", ["altostratus"])
+def test_sun_in_the_altostratus_side_frame(name):
+    """Side-on under the low sun the altostratus's sun is inside the frame, at least 3 degrees
+    from each edge (the frame: 35 mm, 640 x 360, the horizon 12 % up), and no other side shot
+    has it there."""
+    import math
+
+    import gallery
+
+    elevation, azimuth = gallery.sun_direction(name, "side", "low", compact=False)
+    tx, ty = gs.tans(gs.SIDE_LENS, 640, 360)
+    pitch = gs.pitch_for_horizon(ty)
+    half_x, half_y = math.degrees(math.atan(tx)), math.degrees(math.atan(ty))
+    assert abs(azimuth) <= half_x - 3, (name, azimuth, half_x)
+    assert pitch - half_y + 3 <= elevation <= pitch + half_y - 3, (name, elevation, pitch, half_y)
+    for other in ("stratus", "nimbostratus", "cirrostratus", "cirrus", "cumulus"):
+        _, az = gallery.sun_direction(other, "side", "low", compact=other == "cumulus")
+        assert abs(az) > half_x, (other, az)

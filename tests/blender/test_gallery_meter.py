@@ -1,0 +1,43 @@
+"""The gallery's exposure meter for the grey overcasts (scripts/gallery.py meter()): a camera's
+averaging meter. Under a uniform white world of radiance S the frame's mean luminance is S, so
+the metered exposure is log2(OVERCAST_KEY / S) (tolerance 0.02 stops: Cycles samples a
+constant background exactly, and the sky fills the frame); the scene's resolution, samples,
+denoising and output format come back as they were."""
+import math
+import pathlib
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))
+
+
+@pytest.mark.parametrize("radiance", [0.05, 0.5, 4.0])
+def test_meter_brings_the_mean_to_the_key(empty_scene, radiance):
+    import bpy
+    import gallery
+    import render_cloud
+
+    scene = empty_scene
+    world = bpy.data.worlds.new("Grey")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bg.inputs["Strength"].default_value = radiance
+    scene.world = world
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = 200, 100, 50
+    scene.cycles.samples = 7
+    r.image_settings.file_format = "PNG"
+    before = (r.resolution_x, r.resolution_y, r.resolution_percentage, scene.cycles.samples,
+              scene.cycles.use_denoising, r.image_settings.file_format, r.image_settings.color_depth)
+    got = gallery.meter(scene, render_cloud)
+    want = math.log2(gallery.OVERCAST_KEY / radiance)
+    assert got == pytest.approx(want, abs=0.02), (radiance, got, want)
+    after = (r.resolution_x, r.resolution_y, r.resolution_percentage, scene.cycles.samples,
+             scene.cycles.use_denoising, r.image_settings.file_format, r.image_settings.color_depth)
+    assert after == before, (before, after)
