@@ -135,20 +135,27 @@ def stale(cloud, scene) -> bool:
     return bool(now) and now != (on_disk or keys[index])
 
 
+def eevee_depths(scene, cloud):
+    """(nearest, farthest) view depth from the scene camera of the cloud's box (its corners:
+    the depth is linear in the point), or None without a camera."""
+    if scene.camera is None:
+        return None
+    from mathutils import Vector  # noqa: PLC0415 - with bpy only
+
+    to_camera = scene.camera.matrix_world.inverted()
+    depths = [-(to_camera @ (cloud.matrix_world @ Vector(c))).z for c in cloud.bound_box]
+    return min(depths), max(depths)
+
+
 def eevee_range(scene, cloud):
     """(empty, line) when Eevee, which draws volumes only between its Volumetrics Start and End
     (view depths from the camera), leaves the cloud's box out: entirely (empty True) or in
-    part (empty False); None when it does not (another engine, no camera, inside the range).
-    The depth is linear in the point, so the box's extremes are at its corners."""
+    part (empty False); None when it does not (another engine, no camera, inside the range)."""
     eevee = getattr(scene, "eevee", None)
     if not scene.render.engine.startswith("BLENDER_EEVEE") or scene.camera is None or eevee is None:
         return None
     start, end = eevee.volumetric_start, eevee.volumetric_end
-    to_camera = scene.camera.matrix_world.inverted()
-    from mathutils import Vector  # noqa: PLC0415 - with bpy only
-
-    depths = [-(to_camera @ (cloud.matrix_world @ Vector(c))).z for c in cloud.bound_box]
-    near, far = min(depths), max(depths)
+    near, far = eevee_depths(scene, cloud)
     if near >= start and far <= end:
         return None
     gone = far < start or near > end
@@ -156,6 +163,20 @@ def eevee_range(scene, cloud):
                   f"{start:g}–{end:g} m from the camera and the cloud lies {max(near, 0.0):.0f}–{far:.0f} m "
                   f"away; set Render Properties → Volumetrics → End to at least {far:.0f} m (or render in "
                   "Cycles)")
+
+
+def eevee_range_fix(scene, clouds):
+    """Widen Eevee's Volumetrics Start-End (never narrow it) to hold every one of `clouds`
+    (their boxes' view depths, End 5 % beyond the farthest, Start at most 95 % of the nearest
+    and at least 1 mm); returns (start, end)."""
+    eevee = scene.eevee
+    spans = [d for d in (eevee_depths(scene, c) for c in clouds) if d is not None]
+    if spans:
+        far = max(f for _, f in spans)
+        near = min(n for n, _ in spans)
+        eevee.volumetric_end = max(eevee.volumetric_end, 1.05 * far)
+        eevee.volumetric_start = max(min(eevee.volumetric_start, 0.95 * near), 1e-3)
+    return eevee.volumetric_start, eevee.volumetric_end
 
 
 def problems(scene):

@@ -7,7 +7,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from . import cloud_object, landscape, operators, sky_light
+from . import checks, cloud_object, landscape, operators, sky_light, volume_object
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
@@ -43,6 +43,8 @@ def dark_settings(scene):
     if 0.0 < clamp * 2.0 ** scene.view_settings.exposure < sky_light.CLAMP_DISPLAY / 2:
         found.append((f"Clamp Indirect {clamp:g} at exposure {scene.view_settings.exposure:.1f} cuts the light "
                       "scattered inside clouds: they render grey", "CLAMP"))
+    for cloud in _eevee_outside(scene):
+        found.append((checks.eevee_range(scene, cloud)[1], "EEVEE_RANGE"))
     if scene.view_settings.view_transform == "Standard":
         found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
                       "highlights)", "VIEW"))
@@ -53,6 +55,13 @@ def dark_settings(scene):
     return found
 
 
+def _eevee_outside(scene):
+    """The baked clouds Eevee's Volumetrics Start-End leaves out (wholly or in part); a
+    procedural cloud does not render in Eevee at all (checks.problems says so)."""
+    return [o for o in scene.objects if cloud_object.is_cloud(o)
+            and o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED" and checks.eevee_range(scene, o) is not None]
+
+
 class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
     """Change the one setting that makes the clouds dark or clipped"""
     bl_idname = "cloudgen.fix_dark"
@@ -61,7 +70,9 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
 
     what: bpy.props.EnumProperty(items=(("BOUNCES", "Bounces", "Raise volume and total bounces"),
                                         ("VIEW", "View Transform", "AgX (Filmic before 4.0)"),
-                                        ("CLAMP", "Clamp Indirect", "Scale the indirect clamp with the exposure")))
+                                        ("CLAMP", "Clamp Indirect", "Scale the indirect clamp with the exposure"),
+                                        ("EEVEE_RANGE", "Eevee Volumetrics Range",
+                                         "Widen Eevee's Volumetrics Start and End to hold every cloud")))
 
     def execute(self, context):
         scene = context.scene
@@ -73,6 +84,10 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
         elif self.what == "CLAMP":
             scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
             self.report({"INFO"}, f"Clamp Indirect {scene.cycles.sample_clamp_indirect:.0f}")
+        elif self.what == "EEVEE_RANGE":
+            start, end = checks.eevee_range_fix(scene, _eevee_outside(scene))
+            self.report({"INFO"}, f"Eevee Volumetrics {start:g}–{end:g} m (a longer range spreads Eevee's "
+                                  "volume slices further apart: smaller Tile Size if the clouds band)")
         else:
             self.report({"INFO"}, f"View Transform {sky_light.view_transform(scene)}")
         return {"FINISHED"}

@@ -122,5 +122,14 @@ def test_baked_cloud_beyond_eevee_volumetrics_end(addon, scene, cloud):
             assert "Volumetrics → End to at least" in empty[0], empty
         else:
             assert (empty, warnings) == want, (y, empty, warnings)
+    # the sidebar says it among the settings that darken clouds, and its Fix widens the range
+    found = addon.light_setup.dark_settings(scene)
+    assert [fix for _, fix in found if fix == "EEVEE_RANGE"] == ["EEVEE_RANGE"], found
+    far = 100.0 + half + 1.0 + half
+    assert bpy.ops.cloudgen.fix_dark(what="EEVEE_RANGE") == {"FINISHED"}
+    assert scene.eevee.volumetric_end == pytest.approx(1.05 * far, rel=1e-4), (scene.eevee.volumetric_end, far)
+    assert scene.eevee.volumetric_start == pytest.approx(0.1), scene.eevee.volumetric_start  # never narrowed
+    assert _lines(addon, scene) == ([], [])
+    assert not [f for _, f in addon.light_setup.dark_settings(scene) if f == "EEVEE_RANGE"]
     scene.eevee.volumetric_end = 1000.0
     assert _lines(addon, scene) == ([], [])
