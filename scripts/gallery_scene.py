@@ -13,7 +13,8 @@ Scale: 1 scene unit = addon/landscape.py's METRES_PER_UNIT (250 m), the presets'
   field inside the inner half of any box wider than it equals the widest box's field (the
   Sheet fade acts only on the outer half; the noise is in scene units), so each level
   renders only its ring (a mask in its material) and the rings join without a seam in the
-  field, only in the voxel size.
+  field, only in the voxel size. Each level is baked as a full square out to its ring's outer
+  edge (a hole in a VDB made Cycles lose density in a wedge behind it: scripts/gallery.py).
 """
 import math
 
