@@ -40,7 +40,7 @@ VISIBILITY_KM = (0.5, 50.0)  # accepted range
 DEFAULT_VISIBILITY_KM = 4.0
 # each rain cloud's rain: visibility in it (km), patchiness, and how much of its footprint is
 # full (fill): under a nimbostratus a wide veil, under a cumulonimbus a heavy shaft
-LOOKS = {"nimbostratus": {"visibility_km": 2.0, "patchiness": 0.8, "fill": 0.9},
+LOOKS = {"nimbostratus": {"visibility_km": 1.5, "patchiness": 0.9, "fill": 0.9},
          "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.25, "fill": 0.45}}
 DEFAULT_LOOK = {"visibility_km": DEFAULT_VISIBILITY_KM, "patchiness": 0.5, "fill": 0.6}
 
