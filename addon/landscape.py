@@ -49,12 +49,17 @@ def units(km: float) -> float:
     return km * 1000.0 / METRES_PER_UNIT
 
 
+def koschmieder(visibility_km: float) -> float:
+    """Extinction per scene unit for a visibility (km): Koschmieder's 3.912 / V (2 % contrast
+    left at the visibility distance). Unchecked: haze_extinction and the rain's check."""
+    return 3.912 / units(visibility_km)
+
+
 def haze_extinction(visibility_km: float) -> float:
-    """Extinction per scene unit for a meteorological visibility (km): Koschmieder's
-    3.912 / V (2 % contrast left at the visibility distance)."""
+    """koschmieder() of a meteorological visibility in [0.1, 1000] km."""
     if not (0.1 <= visibility_km <= 1000.0):
         raise ValueError(f"haze visibility must be in [0.1, 1000] km, not {visibility_km}")
-    return 3.912 / units(visibility_km)
+    return koschmieder(visibility_km)
 
 
 def hill_weight(distance: float) -> float:

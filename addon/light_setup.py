@@ -43,8 +43,8 @@ def dark_settings(scene):
     if 0.0 < clamp * 2.0 ** scene.view_settings.exposure < sky_light.CLAMP_DISPLAY / 2:
         found.append((f"Clamp Indirect {clamp:g} at exposure {scene.view_settings.exposure:.1f} cuts the light "
                       "scattered inside clouds: they render grey", "CLAMP"))
-    for cloud in _eevee_outside(scene):
-        found.append((checks.eevee_range(scene, cloud)[1], "EEVEE_RANGE"))
+    for _, line in _eevee_outside(scene):
+        found.append((line, "EEVEE_RANGE"))
     if scene.view_settings.view_transform == "Standard":
         found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
                       "highlights)", "VIEW"))
@@ -56,10 +56,12 @@ def dark_settings(scene):
 
 
 def _eevee_outside(scene):
-    """The baked clouds Eevee's Volumetrics Start-End leaves out (wholly or in part); a
-    procedural cloud does not render in Eevee at all (checks.problems says so)."""
-    return [o for o in scene.objects if cloud_object.is_cloud(o)
-            and o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED" and checks.eevee_range(scene, o) is not None]
+    """[(cloud, line)]: the baked clouds Eevee's Volumetrics Start-End leaves out (wholly or in
+    part), with checks.eevee_range's line; a procedural cloud does not render in Eevee at all
+    (checks.problems says so)."""
+    baked = [o for o in scene.objects
+             if cloud_object.is_cloud(o) and o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED"]
+    return [(o, cut[1]) for o, cut in ((o, checks.eevee_range(scene, o)) for o in baked) if cut is not None]
 
 
 class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
@@ -85,7 +87,7 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
             scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
             self.report({"INFO"}, f"Clamp Indirect {scene.cycles.sample_clamp_indirect:.0f}")
         elif self.what == "EEVEE_RANGE":
-            start, end = checks.eevee_range_fix(scene, _eevee_outside(scene))
+            start, end = checks.eevee_range_fix(scene, [c for c, _ in _eevee_outside(scene)])
             self.report({"INFO"}, f"Eevee Volumetrics {start:g}–{end:g} m (a longer range spreads Eevee's "
                                   "volume slices further apart: smaller Tile Size if the clouds band)")
         else:

@@ -93,15 +93,19 @@ class CLOUDGEN_OT_add_rain(bpy.types.Operator):
         for key in ("visibility_km", "patchiness"):
             if self.properties.is_property_set(key):
                 look[key] = getattr(self, key)
-        values = cloud_object.params_from_object(cloud)
+        native = bridge.native()
+        if native is None:
+            self.report({"ERROR"}, f"Add Rain: {bridge.error()}")
+            return {"CANCELLED"}
         centre = tuple(cloud.matrix_world.translation)
-        cx, cy, hx, hy, top = precipitation.rain_box(values, centre)
         try:
+            cx, cy, hx, hy, top = precipitation.rain_box(cloud_object.params_from_object(cloud), centre,
+                                                         native.density)
             rain = precipitation.add_rain(context.scene, (cx, cy), hx, hy, top, name=f"{cloud.name} Rain",
                                           rot_z=cloud.matrix_world.to_euler().z, **look)
         except ValueError as exc:
-            self.report({"ERROR"}, f"Add Rain: {exc}. Move {cloud.name} up so that its base is above "
-                                   "the ground")
+            hint = f". Move {cloud.name} up so that its base is above the ground" if "rain top" in str(exc) else ""
+            self.report({"ERROR"}, f"Add Rain: {exc}{hint}")
             return {"CANCELLED"}
         self.report({"INFO"}, f"{rain.name}: {2 * hx:.3g} x {2 * hy:.3g} units, from the ground to "
                               f"{top:.3g}, visibility {look['visibility_km']:g} km")

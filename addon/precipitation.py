@@ -1,6 +1,6 @@
 """Rain under a cloud: the shaft under a cumulonimbus, the veils under a nimbostratus. Used by
-the add-on's "Add Rain" and by scripts/gallery.py (loaded by its path: bpy only, no imports of
-the add-on's own modules).
+the add-on's "Add Rain" and by scripts/gallery.py (loaded by its path, as is its one sibling,
+addon/landscape.py: the scale and Koschmieder's law).
 
 Why: the two rain clouds are told apart from their dry look-alikes by what falls out of them.
 A nimbostratus seen from the ground is a grey sheet like a stratus or an altostratus; what
@@ -19,17 +19,32 @@ cloud's base, with a Principled Volume whose density is
 - curtains: a noise CURTAIN_KM across, mixed in by `patchiness` (0: an even veil, 1: shafts
   with dry air between);
 - footprint: 1 inside `fill` of the box's half-widths (an ellipse), fading to 0 at its edge.
+  The box is the cloud's own footprint just above its base, measured on the model (rain_box).
 Scattering grey (RAIN_ALBEDO), forward (RAIN_ANISOTROPY: drops are large). The material's step
 rate puts Cycles' steps a third of a streak apart (a procedural volume is stepped at a tenth of
 its box's mean size times the rate; a rain box is wide and low, so that step is far too long).
 """
-import math
+import importlib.util
+import pathlib
+import sys
 
 import bmesh
 import bpy
+import numpy as np
 
-METRES_PER_UNIT = 250.0  # the presets' scale (addon/landscape.py)
+try:  # in the add-on package
+    from . import landscape
+except ImportError:  # loaded by its path (scripts/render_cloud.py _addon_file): the sibling file, once
+    _KEY = "cloudgen_addon_landscape"
+    if _KEY not in sys.modules:
+        _spec = importlib.util.spec_from_file_location(_KEY, pathlib.Path(__file__).with_name("landscape.py"))
+        sys.modules[_KEY] = importlib.util.module_from_spec(_spec)
+        _spec.loader.exec_module(sys.modules[_KEY])
+    landscape = sys.modules[_KEY]
+
+units = landscape.units
 RAIN = "Cloud Rain"
+EXTINCTION_NODE = "Rain Extinction"
 STREAK_KM = 0.3
 STREAK_LENGTH_KM = 3.0
 STREAK_DEPTH = 0.75
@@ -43,10 +58,8 @@ DEFAULT_VISIBILITY_KM = 4.0
 LOOKS = {"nimbostratus": {"visibility_km": 1.5, "patchiness": 0.9, "fill": 0.9},
          "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.25, "fill": 0.45}}
 DEFAULT_LOOK = {"visibility_km": DEFAULT_VISIBILITY_KM, "patchiness": 0.5, "fill": 0.6}
-
-
-def units(km: float) -> float:
-    return km * 1000.0 / METRES_PER_UNIT
+FOOTPRINT_SAMPLES = 65  # per side: the grid rain_box measures the cloud's footprint on
+FOOTPRINT_ABOVE_BASE = 0.05  # ... at this fraction of the box's height above the cloud's base
 
 
 def rain_extinction(visibility_km: float) -> float:
@@ -54,27 +67,36 @@ def rain_extinction(visibility_km: float) -> float:
     lo, hi = VISIBILITY_KM
     if not (lo <= visibility_km <= hi):
         raise ValueError(f"rain visibility must be in [{lo:g}, {hi:g}] km, not {visibility_km}")
-    return 3.912 / units(visibility_km)
+    return landscape.koschmieder(visibility_km)
 
 
-def rain_box(values, centre, layer_half=None):
+def footprint(values, density):
+    """Half-widths (x, y), scene units, of the cloud's footprint FOOTPRINT_ABOVE_BASE of its
+    box above its base: the farthest of FOOTPRINT_SAMPLES² points across the box at that
+    height where `density` (cloudgen_native.density: the model itself) is positive, so a
+    storm rains under its tower, not its anvil, and a layer over its box. Exact to a grid step
+    (the box / (FOOTPRINT_SAMPLES - 1)). ValueError when no point there holds cloud."""
+    bx, by, bz = values["box_size"]
+    h = max(values.get("base_height", 0.0), 0.0) + FOOTPRINT_ABOVE_BASE
+    u = np.linspace(-0.5, 0.5, FOOTPRINT_SAMPLES)
+    x, y = np.meshgrid(u * bx, u * by, indexing="ij")
+    pts = np.stack([x.ravel(), y.ravel(), np.full(x.size, (h - 0.5) * bz)], axis=1)
+    inside = np.asarray(density(values, pts)) > 0.0
+    if not inside.any():
+        raise ValueError(f"the cloud has no density {FOOTPRINT_ABOVE_BASE:g} of its height above its base: "
+                         "no rain to place")
+    return float(np.abs(pts[inside, 0]).max()), float(np.abs(pts[inside, 1]).max())
+
+
+def rain_box(values, centre, density, half=None):
     """(centre x, y, half x, half y, top), scene units, of the rain under a cloud of these
     parameters whose box is centred at `centre` (x, y, z): the top at the cloud's base (Base
-    Height of the box; its bottom when it has none). A layer (Sheet >= 0.5) rains over its
-    whole box, or over layer_half around its centre when given (the gallery: the landscape).
-    A compact cloud rains under its core near the base: the shape curve's radius there (the
-    square root of its second value) over the anvil narrowing 1 + 4 Anvil."""
-    bx, by, bz = values["box_size"]
+    Height of the box; its bottom when it has none), the half-widths its footprint() there, or
+    `half` when given (the gallery: a layer's rain over the whole landscape)."""
+    bz = values["box_size"][2]
     top = centre[2] - bz / 2 + max(values.get("base_height", 0.0), 0.0) * bz
-    if values.get("sheet", 0.0) >= 0.5:
-        hx = hy = layer_half
-        if layer_half is None:
-            hx, hy = bx / 2, by / 2
-        return centre[0], centre[1], hx, hy, top
-    curve = values.get("shape_curve") or [0.0, 1.0]
-    radius = math.sqrt(max(curve[1] if len(curve) > 1 else curve[0], 0.0))
-    radius /= 1.0 + 4.0 * max(values.get("anvil", 0.0), 0.0)
-    return centre[0], centre[1], max(radius * bx / 2, 1e-3), max(radius * by / 2, 1e-3), top
+    hx, hy = (half, half) if half is not None else footprint(values, density)
+    return centre[0], centre[1], max(hx, 1e-3), max(hy, 1e-3), top
 
 
 def _check(name, value, lo, hi):
@@ -152,8 +174,9 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     for key, v in (("From Min", fill), ("From Max", 1.0), ("To Min", 1.0), ("To Max", 0.0)):
         edge.inputs[key].default_value = v
     nt.links.new(r, edge.inputs["Value"])
-    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains),
-                    _math(nt, "MULTIPLY", edge.outputs["Result"], extinction))
+    full = _math(nt, "MULTIPLY", edge.outputs["Result"], extinction)
+    full.node.name = full.node.label = EXTINCTION_NODE  # its second input: 3.912 / V
+    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains), full)
     vol = nt.nodes.new("ShaderNodeVolumePrincipled")
     vol.inputs["Color"].default_value = (RAIN_ALBEDO, RAIN_ALBEDO, RAIN_ALBEDO, 1.0)
     vol.inputs["Anisotropy"].default_value = RAIN_ANISOTROPY

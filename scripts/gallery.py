@@ -112,7 +112,9 @@ def meter(scene, render_cloud):
         (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
          im.file_format) = saved[:6]
         im.color_depth = saved[6]
-    y = float(np.nan_to_num(px @ np.array([0.2126, 0.7152, 0.0722])).mean())
+    if not np.isfinite(px).all():
+        raise RuntimeError("gallery: the meter's render holds NaN or Inf")
+    y = float((px @ np.array([0.2126, 0.7152, 0.0722])).mean())
     return math.log2(OVERCAST_KEY / max(y, 1e-6))
 
 
@@ -239,7 +241,10 @@ def shot(name, view, sun, values, baked, out_png, args):
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM))
     rain = render_cloud._addon_file("precipitation")
     if name in rain.LOOKS:  # what falls from a rain cloud: under a layer, over the whole landscape
-        box = rain.rain_box(values, centre, ls.units(ls.TERRAIN_HALF_KM))
+        import cloudgen_native as cn
+
+        box = rain.rain_box(values, centre, cn.density,
+                            half=ls.units(ls.TERRAIN_HALF_KM) if gs.is_layer(values) else None)
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
     if name in OVERCAST:
         scene.view_settings.exposure = meter(scene, render_cloud)

@@ -58,8 +58,6 @@ SIDE_LENS, BELOW_LENS = 35.0, 24.0
 MAIN_TOP_FROM_BOTTOM = 0.86  # side views: the main compact cloud's top this far up
 
 
-
-
 def km(v: float) -> float:
     return v * 4.0  # 250 m per unit (addon/landscape.py METRES_PER_UNIT)
 
