@@ -37,6 +37,7 @@ FEATURE_KM = 2.5
 GRID_CELLS = 400  # per side: 250 m cells at the default size
 HAZE_TOP_KM = 0.8
 VISIBILITY_KM = 80.0  # 40 until 2026-11: the haze outshone the clouds' sunlit flanks (sky_light.exposure_for)
+VISIBILITY_MIN_KM, VISIBILITY_MAX_KM = 0.1, 1000.0
 HAZE_ANISOTROPY = 0.3
 HAZE_ALBEDO = 0.95
 GROUND = "Cloud Ground"
@@ -56,9 +57,10 @@ def koschmieder(visibility_km: float) -> float:
 
 
 def haze_extinction(visibility_km: float) -> float:
-    """koschmieder() of a meteorological visibility in [0.1, 1000] km."""
-    if not (0.1 <= visibility_km <= 1000.0):
-        raise ValueError(f"haze visibility must be in [0.1, 1000] km, not {visibility_km}")
+    """koschmieder() of a meteorological visibility in [VISIBILITY_MIN_KM, VISIBILITY_MAX_KM]."""
+    if not (VISIBILITY_MIN_KM <= visibility_km <= VISIBILITY_MAX_KM):
+        raise ValueError(f"haze visibility must be in [{VISIBILITY_MIN_KM:g}, {VISIBILITY_MAX_KM:g}] km, "
+                         f"not {visibility_km}")
     return koschmieder(visibility_km)
 
 

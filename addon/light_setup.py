@@ -114,6 +114,13 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         description="Add rolling ground to the horizon around the camera and the haze over it (aerial "
                     "perspective: far hills and the far part of a layer fade into it). Sized for the cloud "
                     "types' scale, 1 unit = 250 m")
+    visibility_km: bpy.props.FloatProperty(
+        name="Visibility", default=landscape.VISIBILITY_KM, min=landscape.VISIBILITY_MIN_KM,
+        max=landscape.VISIBILITY_MAX_KM, subtype="NONE",
+        description="How far one sees through the Landscape's haze, km (Koschmieder: 2 % contrast left "
+                    "there). 20-40 a hazy summer day, 80 a clear one, 150-250 the clean air behind a "
+                    "cold front. The haze lies between the camera and every cloud: at 80 km it takes a "
+                    "third to a half of the shading of a cumulus 15-35 km away")
 
     @staticmethod
     def _haze_top(scene):
@@ -132,7 +139,8 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
             info = sky_light.daylight(scene, self.sun_elevation, rotation)
             if self.landscape:
                 at = scene.camera.matrix_world.translation if scene.camera else (0.0, 0.0)
-                landscape.landscape(scene, centre=(at[0], at[1]), haze_top=self._haze_top(scene))
+                landscape.landscape(scene, centre=(at[0], at[1]), haze_top=self._haze_top(scene),
+                                    visibility_km=self.visibility_km)
         except RuntimeError as exc:
             self.report({"ERROR"}, f"Cloud Sky & Sun: {exc}")
             return {"CANCELLED"}

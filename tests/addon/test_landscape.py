@@ -6,7 +6,8 @@ Cloud Sky & Sun (addon/sky_light.py: look, white balance), in the bpy wheel (iss
   a second call; the artist's own objects stay;
 - the ground is flat where the camera stands (no hill in the lens) and hilly far out
   (tolerance: 1e-4 scene units flat; hills at least a third of HILL_KM high);
-- the haze's top lies below the lowest cloud, its extinction is Koschmieder's 3.912 / V;
+- the haze's top lies below the lowest cloud, its extinction is Koschmieder's 3.912 / V (the
+  operator's Visibility, 80 km by default);
 - aerial perspective, rendered: seen toward the horizon, the far ground comes closer to the
   sky's brightness with the haze than without it;
 - the look and the white balance: the sun's colour temperature (McCamy), floored for a low
@@ -92,6 +93,24 @@ def test_hill_height_scales_the_hills(addon, scene):
     for bad in (-0.1, 6.0, float("nan")):
         with pytest.raises(ValueError, match="hill height"):
             ls.landscape(scene, hill_km=bad)
+
+
+def test_sky_setup_visibility_sets_the_haze(addon, scene):
+    """Cloud Sky & Sun's Visibility reaches the haze: extinction 3.912 / V (rel 1e-6) for a
+    clean-air 200 km; the operator refuses what the landscape would refuse (the property's
+    range is the same bounds)."""
+    import bpy
+
+    ls = addon.landscape
+    _camera(scene)
+    assert bpy.ops.cloudgen.sky_setup(landscape=True, visibility_km=200.0) == {"FINISHED"}
+    scatter = next(n for n in scene.objects[ls.HAZE].data.materials[0].node_tree.nodes
+                   if n.bl_idname == "ShaderNodeVolumeScatter")
+    got = scatter.inputs["Density"].default_value
+    assert got == pytest.approx(3.912 / ls.units(200.0), rel=1e-6), (got, 200.0)
+    rna = bpy.ops.cloudgen.sky_setup.get_rna_type().properties["visibility_km"]
+    got = (rna.hard_min, rna.hard_max, rna.default)  # float32 in RNA
+    assert got == pytest.approx((ls.VISIBILITY_MIN_KM, ls.VISIBILITY_MAX_KM, ls.VISIBILITY_KM), rel=1e-6), got
 
 
 def test_bad_haze_refused(addon):
