@@ -56,14 +56,12 @@ SUN_IN_VIEW_SIDE = {"altostratus": (18.0, 16.0)}
 # the hills' height scale (km) where it is a cue: the far hill tops vanish into a low stratus
 # base (0.35 km), which tells it from altostratus ("hills disappearing into it", round 5)
 HILLS_KM = {"stratus": 2.5, "nimbostratus": 1.0}
-# the air of a convective day, km of visibility (the Landscape's haze): towers grow in clean,
-# unstable air (behind a cold front 150-250 km is common). At the add-on's 80 km the 15-36 km
-# of haze between the camera and the towers took a third to a half of their shading: the 10th to
-# 90th percentile of the display luminance over the cloud's pixels (320x180, 16 spp, denoised)
-# spans 91/67/66 for the cumulonimbus/congestus/cumulus side-on at 80 km, 114/94/85 at 200 km
-# and 131/128/117 without haze (round 9: "evenly pale grey-green, no sunlit side, fades into
-# haze well above the horizon"). The layers keep 80 km: their far edge is hidden in it.
-CLEAN_AIR_KM = {"cumulus": 200.0, "cumulus_congestus": 200.0, "cumulonimbus": 200.0}
+# the air of a convective day, km of visibility (the Landscape's haze) for every compact type
+# (gs.is_layer false): towers grow in clean, unstable air (behind a cold front 150-250 km is
+# common); at the add-on's 80 km the haze took a third to a half of their shading (measured by
+# visibility in docs/lighting.md; round 9: "evenly pale grey-green, no sunlit side"). The layers
+# keep landscape.VISIBILITY_KM: their far edge is hidden in it.
+CLEAN_AIR_KM = 200.0
 # under a sheet that hides the sun a camera is balanced to the overcast's own light, not to the
 # sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
 # round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
@@ -248,7 +246,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
     ls = render_cloud._addon_file("landscape")
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM),
-                 visibility_km=CLEAN_AIR_KM.get(name, ls.VISIBILITY_KM))
+                 visibility_km=ls.VISIBILITY_KM if gs.is_layer(values) else CLEAN_AIR_KM)
     rain = render_cloud._addon_file("precipitation")
     if name in rain.LOOKS:  # what falls from a rain cloud: under a layer, over the whole landscape
         import cloudgen_native as cn

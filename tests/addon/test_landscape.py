@@ -97,8 +97,8 @@ def test_hill_height_scales_the_hills(addon, scene):
 
 def test_sky_setup_visibility_sets_the_haze(addon, scene):
     """Cloud Sky & Sun's Visibility reaches the haze: extinction 3.912 / V (rel 1e-6) for a
-    clean-air 200 km; the operator refuses what the landscape would refuse (the property's
-    range is the same bounds)."""
+    clean-air 200 km, not the default 80 km's; the property's range and default are the
+    landscape's own bounds and default (rel 1e-6: RNA stores float32)."""
     import bpy
 
     ls = addon.landscape
