@@ -141,14 +141,15 @@ def parse_args(argv):
     return ap.parse_args(argv)
 
 
-def bake(name, values, out_vdb, resolution, ring=None):
+def bake(name, values, out_vdb, resolution, ring=None, supersample=1):
     """`cloudgen bake` of these values to out_vdb, unless a file with the same bake key is
-    there (--update); ring (inner, outer or None): only that square ring (--ring)."""
+    there (--update); ring (inner, outer or None): only that square ring (--ring); supersample:
+    samples per voxel axis (--supersample)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
-    extra = []
+    extra = ["--supersample", str(supersample)] if supersample > 1 else []
     if ring:
-        extra = ["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")]
+        extra += ["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")]
     try:
         subprocess.run([str(ROOT / "build" / "bin" / "cloudgen"), "bake", "--params", f.name, "--resolution",
                         str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"] + extra,
@@ -174,7 +175,7 @@ def bake_all(name, values, work, args):
             # a 640x360 border render of it showed the wedge, gone with the hole filled). The bakes
             # themselves match the model there (max |VDB - density| 1.5e-4 at 2.9 mean density)
             path = bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res,
-                        ring=None if outer is None else (0.0, outer))
+                        ring=None if outer is None else (0.0, outer), supersample=gs.level_supersample(lv, res))
             levels.append((path, inner, outer))
         return {"levels": levels}
     main_res = args.resolution * gs.MAIN_RESOLUTION_SCALE.get(name, 1)

@@ -41,7 +41,7 @@ const char* const kBakeHelp =
     "                     [--resolution N] [--quality draft|preview|final] [--camera CAMERA.json]\n"
     "                     [--time T] [--frames A-B [--fps F]] [--update] [--tolerance X] [--no-skip]\n"
     "                     [--no-lod] [--threads N] [--half] [--max-memory GiB] [--quiet] [--json]\n"
-    "                     [--brick I/N] [--ring INNER[,OUTER]] [--dry-run]\n"
+    "                     [--brick I/N] [--ring INNER[,OUTER]] [--supersample K] [--dry-run]\n"
     "\n"
     "Evaluates the cloud density on a voxel grid over the cloud box and writes it\n"
     "as an OpenVDB file: one float grid named `density`, class fog volume,\n"
@@ -82,6 +82,9 @@ const char* const kBakeHelp =
     "                      plane (cloud frame, scene units; one voxel of margin each side; no OUT:\n"
     "                      no outer limit), 0 <= IN < OUT: a level of a nested bake of a layer\n"
     "                      whose inner levels cover the hole (docs/camera.md)\n"
+    "  --supersample K     each voxel holds the mean of K^3 samples spread over its cell (K in\n"
+    "                      [1, 4], default 1 = the centre): no stripes from a thin layer's\n"
+    "                      edges sharper than a voxel (docs/camera.md); costs K^3 the time\n"
     "  --dry-run           check everything and print the plan (files, grid, keys), write nothing\n"
     "  --json              machine-readable output: one JSON object per line on stdout\n"
     "                      (plan, camera, frame, progress, wrote, copied, kept, error;\n"
@@ -196,12 +199,12 @@ bool parse_ring(const std::string& spec, cg::BakeOptions& o) {
 int cmd_bake(const std::vector<std::string>& argv) {
   // before parsing: a bad argument is reported as an `error` event too
   if (std::find(argv.begin(), argv.end(), "--json") != argv.end()) set_output_mode(OutputMode::Json);
-  Args a("bake", argv, {{"--preset", true},     {"--params", true},  {"--sequence", true}, {"--resolution", true},
-                        {"--quality", true},    {"--camera", true},  {"--output", true},   {"--time", true},
-                        {"--frames", true},     {"--fps", true},     {"--update", false},  {"--tolerance", true},
-                        {"--no-skip", false},   {"--no-lod", false}, {"--threads", true},  {"--half", false},
-                        {"--max-memory", true}, {"--quiet", false},  {"--json", false},    {"--brick", true},
-                        {"--ring", true},       {"--dry-run", false}});
+  Args a("bake", argv, {{"--preset", true},     {"--params", true},      {"--sequence", true}, {"--resolution", true},
+                        {"--quality", true},    {"--camera", true},      {"--output", true},   {"--time", true},
+                        {"--frames", true},     {"--fps", true},         {"--update", false},  {"--tolerance", true},
+                        {"--no-skip", false},   {"--no-lod", false},     {"--threads", true},  {"--half", false},
+                        {"--max-memory", true}, {"--quiet", false},      {"--json", false},    {"--brick", true},
+                        {"--ring", true},       {"--supersample", true}, {"--dry-run", false}});
   if (a.help()) return std::cout << kBakeHelp, kExitOk;
   if (!a.positional().empty()) throw UsageError("bake: unexpected argument '" + a.positional()[0] + "'");
 
@@ -257,6 +260,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     throw UsageError(
         "--ring must be INNER or INNER,OUTER with numbers 0 <= INNER < OUTER <= 1e30 (scene units); got '" +
         clipped(*a.get("--ring"), 40) + "'");
+  if (a.has("--supersample")) opts.supersample = static_cast<int>(a.integer("--supersample", 1, cg::kMaxSupersample));
   opts.skip_empty = !a.has("--no-skip");
   if (a.has("--no-lod")) opts.lod = false;
   const double budget_gib = a.has("--max-memory") ? a.number("--max-memory", 0.0, 1.0e6, true) : 8.0;
@@ -339,8 +343,11 @@ int cmd_bake(const std::vector<std::string>& argv) {
                        {"key", plan[fi].key}});
     const double gib = double(cg::estimate_bake_bytes(first.model, first.opts)) / double(1ull << 30);
     const int threads = cg::resolve_threads(opts.threads);
-    char ring[100] = "";
+    char ring[140] = "";
     if (opts.has_ring()) std::snprintf(ring, sizeof ring, ", ring [%g, %g)", opts.ring_inner, opts.ring_outer);
+    if (opts.supersample > 1)
+      std::snprintf(ring + std::strlen(ring), sizeof ring - std::strlen(ring), ", %d^3 samples per voxel",
+                    opts.supersample);
     char human[400];
     std::snprintf(human, sizeof human, "bake: %s, %dx%dx%d voxels of %g%s, estimated memory <= %.3f GiB, %d thread(s)",
                   preset.empty() ? "parameters" : preset.c_str(), first.grid.n[0], first.grid.n[1], first.grid.n[2],
@@ -352,6 +359,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
                           {"memory_gib", gib},
                           {"threads", threads},
                           {"preset", preset.empty() ? Fields() : Fields(preset)}};
+    if (opts.supersample > 1) plan_fields["supersample"] = opts.supersample;
     if (opts.has_ring())  // [inner, outer], outer null when unlimited
       plan_fields["ring"] = {opts.ring_inner, std::isinf(opts.ring_outer) ? Fields() : Fields(opts.ring_outer)};
     emit("plan", plan_fields, quiet ? "" : human);
@@ -434,6 +442,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     wo.time = job.params.get(cg::TIME);
     wo.resolution = std::max({p.grid.n[0], p.grid.n[1], p.grid.n[2]});
     wo.bake_key = p.key;
+    wo.supersample = p.opts.supersample;
     if (p.opts.brick_count > 1) {
       cg::BakeOptions whole = p.opts;
       whole.brick_index = 0, whole.brick_count = 1;

@@ -206,6 +206,7 @@ void write_vdb(const std::string& path, const cg::BakeResult& bake, const VdbWri
     }
     grid->insertMeta("cloudgen_lod_worley_octaves", openvdb::FloatMetadata(bake.stats.lod_worley_octaves));
     grid->insertMeta("cloudgen_lod_perlin_octaves", openvdb::FloatMetadata(bake.stats.lod_perlin_octaves));
+    if (o.supersample > 1) grid->insertMeta("cloudgen_supersample", openvdb::Int32Metadata(o.supersample));
     grid->setSaveFloatAsHalf(o.half);
 
     write_checked(path, grid);

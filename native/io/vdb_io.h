@@ -7,7 +7,7 @@
 // cloud object's local frame. Metadata on the grid: cloudgen_version,
 // cloudgen_params (JSON), cloudgen_preset (if any), cloudgen_time,
 // cloudgen_resolution, cloudgen_lod_worley_octaves, cloudgen_lod_perlin_octaves,
-// cloudgen_bake_key (when given).
+// cloudgen_bake_key (when given), cloudgen_supersample (a box-filtered bake only).
 // Blosc compression (when the library has it); optionally 16-bit floats.
 //
 // OpenVDB itself stays inside vdb_io.cpp: the reader hands out plain values.
@@ -35,7 +35,8 @@ struct VdbWriteOptions {
   // bake has; `cloudgen merge` checks and drops both. Empty: a whole bake.
   std::string brick;
   std::string whole_bake_key;
-  int threads = 0;  // building the tree: as cg::BakeOptions::threads (0 = one per core)
+  int threads = 0;      // building the tree: as cg::BakeOptions::threads (0 = one per core)
+  int supersample = 1;  // > 1: written as cloudgen_supersample (cg::BakeOptions::supersample)
 };
 
 // Writes `bake` to `path` (the caller passes a temporary, see atomic_file.h).

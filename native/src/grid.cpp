@@ -49,11 +49,25 @@ TileRange tile_range(const GridSpec& g, std::int64_t t) {
   return r;
 }
 
-// Upper bound of the unscaled density over the voxel centres of a tile.
-float tile_bound(const Model& m, const GridSpec& g, const TileRange& r) {
-  const vec3 lo = g.centre(r.lo[0], r.lo[1], r.lo[2]);
-  const vec3 hi = g.centre(r.hi[0] - 1, r.hi[1] - 1, r.hi[2] - 1);
+// Upper bound of the unscaled density over the points a tile samples: its
+// voxel centres, widened by `reach` (the sub-samples' farthest offset).
+float tile_bound(const Model& m, const GridSpec& g, const TileRange& r, float reach = 0.0f) {
+  vec3 lo = g.centre(r.lo[0], r.lo[1], r.lo[2]);
+  vec3 hi = g.centre(r.hi[0] - 1, r.hi[1] - 1, r.hi[2] - 1);
+  for (int a = 0; a < 3; ++a) lo[a] -= reach, hi[a] += reach;
   return shape_upper_bound(m, lo, hi);
+}
+
+int clamped_supersample(const BakeOptions& o) { return std::clamp(o.supersample, 1, kMaxSupersample); }
+
+// Offset of sub-sample s (of k per axis) from the voxel's centre, in voxels: the
+// centres of a k-cell split of [-1/2, 1/2].
+float sub_offset(int s, int k) { return (float(s) + 0.5f) / float(k) - 0.5f; }
+
+// How far a voxel's farthest sub-sample lies from its centre along an axis (scene units).
+float sample_reach(const BakeOptions& o, float voxel) {
+  const int k = clamped_supersample(o);
+  return k > 1 ? sub_offset(k - 1, k) * voxel : 0.0f;
 }
 
 std::int64_t tile_count(const GridSpec& g) { return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2); }
@@ -107,7 +121,7 @@ std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
     for (std::int64_t t = span.first; t < span.last; ++t) {
       const TileRange r = tile_range(g, t);
       if (tile_culled(o, g, r)) continue;
-      if (!o.skip_empty || tile_bound(m, g, r) > 0.0f) ++candidates;
+      if (!o.skip_empty || tile_bound(m, g, r, sample_reach(o, g.voxel)) > 0.0f) ++candidates;
     }
   }
   // 4 bytes per voxel in the tile list, ~5.5 bytes per active voxel in an
@@ -121,7 +135,9 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
   BakeResult result;
   result.grid = bake_grid(m, o);
   const GridSpec& g = result.grid;
-  const Lod lod = o.lod ? lod_for_footprint(m, g.voxel) : kNoLod;
+  const int k = clamped_supersample(o);
+  const Lod lod = o.lod ? lod_for_footprint(m, g.voxel / float(k)) : kNoLod;
+  const float reach = sample_reach(o, g.voxel);
   const bool ring = o.has_ring();
   result.stats.lod_worley_octaves = lod.worley_octaves;
   result.stats.lod_perlin_octaves = lod.perlin_octaves;
@@ -142,7 +158,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
       ++w.stats.tiles_culled;
       return;
     }
-    if (o.skip_empty && tile_bound(m, g, r) <= 0.0f) {
+    if (o.skip_empty && tile_bound(m, g, r, reach) <= 0.0f) {
       ++w.stats.tiles_skipped;
       return;
     }
@@ -150,26 +166,43 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     Tile tile;
     tile.index = {r.lo[0], r.lo[1], r.lo[2]};
     tile.values.fill(0.0f);
-    // The tile's voxel centres, evaluated in one batch (density_block: lanes across voxels).
-    std::array<vec3, kTileVoxels> points;
-    std::array<float, kTileVoxels> values;
+    // The tile's voxel centres; with supersampling one batch per sub-sample
+    // offset (density_block: lanes across voxels), summed in `values`.
+    std::array<vec3, kTileVoxels> centres, points;
+    std::array<float, kTileVoxels> values, sample;
     std::size_t count = 0;
-    for (int k = r.lo[2]; k < r.hi[2]; ++k)
-      for (int j = r.lo[1]; j < r.hi[1]; ++j)
-        for (int i = r.lo[0]; i < r.hi[0]; ++i) points[count++] = g.centre(i, j, k);
-    density_block(m, points.data(), count, lod, values.data());
+    for (int z = r.lo[2]; z < r.hi[2]; ++z)
+      for (int y = r.lo[1]; y < r.hi[1]; ++y)
+        for (int x = r.lo[0]; x < r.hi[0]; ++x) centres[count++] = g.centre(x, y, z);
+    if (k == 1) {
+      density_block(m, centres.data(), count, lod, values.data());
+    } else {
+      std::fill(values.begin(), values.begin() + count, 0.0f);
+      for (int sz = 0; sz < k; ++sz)
+        for (int sy = 0; sy < k; ++sy)
+          for (int sx = 0; sx < k; ++sx) {
+            const vec3 d{sub_offset(sx, k) * g.voxel, sub_offset(sy, k) * g.voxel, sub_offset(sz, k) * g.voxel};
+            for (std::size_t q = 0; q < count; ++q)
+              points[q] = {centres[q][0] + d[0], centres[q][1] + d[1], centres[q][2] + d[2]};
+            density_block(m, points.data(), count, lod, sample.data());
+            for (std::size_t q = 0; q < count; ++q) values[q] += sample[q];
+          }
+      const float inv = 1.0f / float(k * k * k);
+      for (std::size_t q = 0; q < count; ++q) values[q] *= inv;
+    }
     std::int64_t active = 0;
     std::size_t q = 0;
-    for (int k = r.lo[2]; k < r.hi[2]; ++k)
-      for (int j = r.lo[1]; j < r.hi[1]; ++j)
-        for (int i = r.lo[0]; i < r.hi[0]; ++i) {
+    for (int z = r.lo[2]; z < r.hi[2]; ++z)
+      for (int y = r.lo[1]; y < r.hi[1]; ++y)
+        for (int x = r.lo[0]; x < r.hi[0]; ++x) {
           float d = values[q];
-          if (d <= o.tolerance || (ring && !in_ring(o, g.voxel, points[q]))) d = 0.0f;
+          if (d <= o.tolerance || (ring && !in_ring(o, g.voxel, centres[q]))) d = 0.0f;
           ++q;
           active += d > 0.0f;
-          tile.values[((k - r.lo[2]) * kTile + (j - r.lo[1])) * kTile + (i - r.lo[0])] = d;
+          tile.values[((z - r.lo[2]) * kTile + (y - r.lo[1])) * kTile + (x - r.lo[0])] = d;
         }
     w.stats.voxels_evaluated += std::int64_t(count);
+    w.stats.samples_evaluated += std::int64_t(count) * k * k * k;
     if (active > 0) {
       w.stats.voxels_active += active;
       ++w.stats.tiles_kept;
@@ -186,6 +219,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     result.stats.tiles_evaluated += w.stats.tiles_evaluated;
     result.stats.tiles_kept += w.stats.tiles_kept;
     result.stats.voxels_evaluated += w.stats.voxels_evaluated;
+    result.stats.samples_evaluated += w.stats.samples_evaluated;
     result.stats.voxels_active += w.stats.voxels_active;
     for (Tile& t : w.tiles) result.tiles.push_back(t);
   }

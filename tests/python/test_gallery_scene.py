@@ -122,3 +122,22 @@ def test_sun_in_the_altostratus_side_frame(name):
     for other in ("stratus", "nimbostratus", "cirrostratus", "cirrus", "cumulus"):
         _, az = gallery.sun_direction(other, "side", "low", compact=other == "cumulus")
         assert abs(az) > half_x, (other, az)
+
+
+def test_thin_layer_levels_are_box_filtered_where_the_layer_is_resolved():
+    # A level is baked with --supersample 2 only where the layer spans 1 to THIN_LAYER_VOXELS
+    # voxels: much thinner, a cell's sub-samples can all miss the layer (measured: a voxel of 1.31
+    # over the 0.6-unit cirrocumulus baked empty at K = 2, docs/camera.md); thicker, the point
+    # samples resolve it. Exact.
+    values = _values("cirrocumulus")
+    chosen = []
+    for lv, res, _, _ in gs.layer_levels("cirrocumulus", values, 640):
+        b = lv["box_size"]
+        z_voxels = b[2] * res / max(b)
+        k = gs.level_supersample(lv, res)
+        chosen.append((round(z_voxels, 2), k))
+        assert k == (2 if 1.0 <= z_voxels < gs.THIN_LAYER_VOXELS else 1), chosen
+    assert [k for _, k in chosen] == [1, 1, 2, 2], chosen  # 0.5, 0.9, 1.8 and 6.6 voxels thick
+    # the nimbostratus is thick in voxels at every level: point samples
+    nb = _values("nimbostratus")
+    assert all(gs.level_supersample(lv, res) == 1 for lv, res, _, _ in gs.layer_levels("nimbostratus", nb, 640))

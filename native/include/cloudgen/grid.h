@@ -41,11 +41,19 @@ GridSpec grid_for_box(const Model& m, int resolution);
 // The same for a given voxel edge (scene units, > 0).
 GridSpec grid_for_voxel(const Model& m, float voxel);
 
+inline constexpr int kMaxSupersample = 4;
+
 struct BakeOptions {
   int resolution = 128;
-  bool skip_empty = true;   // skip tiles whose shape bound proves them empty
-  bool lod = true;          // do not evaluate octaves finer than a voxel can hold
-  float tolerance = 0.0f;   // voxels with density <= tolerance are dropped (background 0)
+  bool skip_empty = true;  // skip tiles whose shape bound proves them empty
+  bool lod = true;         // do not evaluate octaves finer than a voxel can hold
+  float tolerance = 0.0f;  // voxels with density <= tolerance are dropped (background 0)
+  // Box-filtered bake: each voxel holds the mean of supersample^3 samples on a
+  // regular sub-grid of its cell (1 = the centre only). A thin layer of
+  // thresholded noise has edges sharper than its voxel; point samples alias
+  // them into stripes (docs/gallery/moire), the cell's mean does not. The LOD
+  // then keeps octaves down to the sub-sample spacing. Cost: supersample^3.
+  int supersample = 1;
   int threads = 0;          // 0 = one per hardware thread
   float voxel = 0.0f;       // > 0: this voxel edge instead of `resolution` (camera-aware bake)
   bool use_region = false;  // bake only tiles that meet `region` (camera-aware bake)
@@ -83,6 +91,7 @@ struct Tile {
 struct BakeStats {
   std::int64_t tiles_total = 0, tiles_skipped = 0, tiles_culled = 0, tiles_evaluated = 0, tiles_kept = 0;
   std::int64_t voxels_evaluated = 0, voxels_active = 0;
+  std::int64_t samples_evaluated = 0;  // density evaluations: voxels_evaluated * supersample^3
   float lod_worley_octaves = 0, lod_perlin_octaves = 0;
 };
 
