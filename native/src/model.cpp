@@ -64,6 +64,7 @@ Model prepare(const Params& p) {
   m.noise_influence = p.get(NOISE_INFLUENCE);
   m.noise_detail = p.get(NOISE_DETAIL);
   m.noise_whisp = p.get(NOISE_WHISP);
+  m.fibres = p.get(FIBRES);
   m.seed = static_cast<int>(finite_clamp(p.get(SEED), -1073741824.0f, 1073741824.0f));
 
   m.edge_width = cg_edge_width(p.get(EDGE_SHARPNESS));

@@ -52,6 +52,8 @@ def parameter_sets():
     sets["wind_time"] = {"preset": "cumulus", "wind_strength": 2.0, "wind_direction": [1.0, 0.5, 0.2],
                          "time": 7.5, "evolution": 0.3, "stationary": 0.5, "object_location": [3.0, -2.0, 1.0]}
     sets["wave"] = {"wave": 0.7, "worley_influence": 1.0}
+    # Fibres: the ridge's slope is 24x P's, so a float step of P moves N 24x as far (still ~1e-6)
+    sets["fibres"] = {"fibres": 0.8, "noise_influence": 1.0, "stretch": 4.0, "worley_influence": 0.3}
     # the shape terms beyond the thesis (docs/model.md 4.1), Stretch, Shear, Warp and the turrets
     sets["shape_terms"] = {"preset": "cumulus", "edge_sharpness": 0.7, "base_height": 0.1, "top_height": 0.85,
                            "lean": 0.4, "turret_influence": 0.5, "turret_scale": 2.5, "stretch": 1.5, "shear": 0.4,

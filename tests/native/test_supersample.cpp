@@ -109,8 +109,8 @@ TEST(Supersample, VoxelIsTheMeanOfItsSubSamples) {
             const double want = kept ? cell_mean(m, r.grid, x, y, z, k, lod) : 0.0;
             active += got > 0.0f;
             ASSERT_NEAR(got, want, 5e-6 * std::max(1.0, std::fabs(want)))
-                << name << ", supersample " << k << ", voxel (" << x << ", " << y << ", " << z << ") of "
-                << r.grid.n[0] << "x" << r.grid.n[1] << "x" << r.grid.n[2] << ", voxel " << r.grid.voxel;
+                << name << ", supersample " << k << ", voxel (" << x << ", " << y << ", " << z << ") of " << r.grid.n[0]
+                << "x" << r.grid.n[1] << "x" << r.grid.n[2] << ", voxel " << r.grid.voxel;
           }
       EXPECT_GT(active, 0) << name << " k " << k << ": empty bake";
       cg::BakeOptions dense = o;
@@ -170,10 +170,10 @@ TEST(Supersample, BoxFilteredThinLayerIsNearerTheCellMean) {
     column_rms[k] = std::sqrt(col_err2 / double(columns));
     reference_rms = std::sqrt(ref2 / double(n));
     column_reference_rms = std::sqrt(col_ref2 / double(columns));
-    std::cout << "[ figures  ] cirrocumulus, voxel " << g.voxel << ", supersample " << k << ": RMS error "
-              << rms[k] << " (reference RMS " << reference_rms << ") over " << n << " voxels; column RMS error "
-              << column_rms[k] << " (reference " << column_reference_rms << ") over " << columns
-              << " columns; samples " << r.stats.samples_evaluated << "\n";
+    std::cout << "[ figures  ] cirrocumulus, voxel " << g.voxel << ", supersample " << k << ": RMS error " << rms[k]
+              << " (reference RMS " << reference_rms << ") over " << n << " voxels; column RMS error " << column_rms[k]
+              << " (reference " << column_reference_rms << ") over " << columns << " columns; samples "
+              << r.stats.samples_evaluated << "\n";
   }
   EXPECT_LT(rms[2] * 2.0, rms[1]) << "k = 2 not 2x nearer the cell mean than the point bake";
   EXPECT_LT(rms[3], rms[2] * 1.05) << "k = 3 farther from the cell mean than k = 2";

@@ -68,7 +68,7 @@ inline float noise_at(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   const vec3 pp = q * m.perlin_frequency + m.perlin_offset;
   const vec3 pt = cg_turret_point(q, m.turret_frequency, m.turret_offset);
   return cg_cloud_noise(pw, pp, pt, m.w4, m.worley_influence, m.worley_clump, m.wave, m.noise_influence, m.noise_detail,
-                        m.noise_whisp, m.turret_influence, lod.worley_octaves, lod.perlin_octaves, m.seed);
+                        m.noise_whisp, m.fibres, m.turret_influence, lod.worley_octaves, lod.perlin_octaves, m.seed);
 }
 
 // The distortion F at generated coordinates g: F x the anvil's calm (F itself at Anvil 0).

@@ -52,4 +52,5 @@ CG_MODEL_FIELD(vec3, warp_offset, Always)                        // wrapped, in 
 CG_MODEL_FIELD(float, turret_influence, Always)
 CG_MODEL_FIELD(float, turret_frequency, Always)                  // turret cells per scene unit (x, y)
 CG_MODEL_FIELD(vec3, turret_offset, Always)                      // wrapped, in turret lattice units
+CG_MODEL_FIELD(float, fibres, Always)                            // Fibres weight (cg_fibre_noise)
 // clang-format on

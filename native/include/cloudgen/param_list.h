@@ -79,6 +79,9 @@ CG_PARAM(NOISE_DETAIL, "noise_detail", "Noise Detail", "Cloud Noise", Float, (5.
          "octaves", "Octaves of the gradient-noise fBm; a fractional part fades the last octave in.")
 CG_PARAM(NOISE_WHISP, "noise_whisp", "Noise Whisp", "Cloud Noise", Float, (0.5f), 0.0f, 2.0f, 0.0f, 1.0f, 0, 1,
          "gain", "Gain of the gradient-noise fBm: higher values give wispier, finer detail.")
+CG_PARAM(FIBRES, "fibres", "Fibres", "Cloud Noise", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1, "",
+         "Turns the gradient noise into thin fibres along its zero set (with Stretch: cirrus filaments); acts "
+         "through Noise Influence.")
 CG_PARAM(TURRET_INFLUENCE, "turret_influence", "Turret Influence", "Cloud Noise", Float, (0.0f), 0.0f, 1.0f, 0.0f,
          1.0f, 0, 1, "", "Weight of large Worley turrets under the billows (towers, big lobes).")
 CG_PARAM(TURRET_SCALE, "turret_scale", "Turret Size", "Cloud Noise", Float, (3.0f), 1.0f, 16.0f, 1.0f, 8.0f, 0, 1,

@@ -419,7 +419,7 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
   }
 #pragma omp simd
   for (int i = 0; i < padded; ++i) {
-    float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni);
+    float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni, m.fibres);
     if (ti > 0.0f) noise = cg_turret_mix(noise, L.turret[i], ti);
     L.sum[i] = cg_cloud_main(L.shape[i], noise, L.distortion[i], m.density, m.edge_width);
   }

@@ -17,15 +17,16 @@
 
 CG_NAMESPACE_BEGIN
 
-#define CG_CURVE_POINTS 17               /* shape curve samples at h = 0, 1/16, ..., 1 */
-#define CG_PROFILE_FALLOFF 16            /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
-#define CG_DENSITY_SCALE 20              /* physical density = 20 x the Density slider, per scene unit */
-#define CG_BASE_FREQUENCY CG_FLOAT(2.5)  /* Worley cells per scene unit at Overall Scale 1 */
-#define CG_PERLIN_RELATIVE CG_FLOAT(2.0) /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
-#define CG_WORLEY_OCTAVES 2              /* thesis 4.2: fixed at 2 */
-#define CG_PERLIN_CONTRAST CG_FLOAT(1.0) /* P01 = 1/2 + contrast * fBm */
-#define CG_WAVE_FREQUENCY 1              /* sine periods per Worley cell along x */
-#define CG_WAVE_WARP CG_FLOAT(0.75)      /* phase warp of the sine by the gradient fBm, in periods */
+#define CG_CURVE_POINTS 17                /* shape curve samples at h = 0, 1/16, ..., 1 */
+#define CG_PROFILE_FALLOFF 16             /* S falls off as -16 (h - clamp(h))^2 below the base / above the top */
+#define CG_DENSITY_SCALE 20               /* physical density = 20 x the Density slider, per scene unit */
+#define CG_BASE_FREQUENCY CG_FLOAT(2.5)   /* Worley cells per scene unit at Overall Scale 1 */
+#define CG_PERLIN_RELATIVE CG_FLOAT(2.0)  /* gradient-noise frequency / Worley frequency at Noise Scale 1 */
+#define CG_WORLEY_OCTAVES 2               /* thesis 4.2: fixed at 2 */
+#define CG_PERLIN_CONTRAST CG_FLOAT(1.0)  /* P01 = 1/2 + contrast * fBm */
+#define CG_WAVE_FREQUENCY 1               /* sine periods per Worley cell along x */
+#define CG_WAVE_WARP CG_FLOAT(0.75)       /* phase warp of the sine by the gradient fBm, in periods */
+#define CG_FIBRE_SHARPNESS CG_FLOAT(12.0) /* Fibres: a fibre is where |P| < 1/12 (P, the gradient fBm) */
 #define CG_TWO_PI CG_FLOAT(6.2831853)
 #define CG_COORD_LIMIT CG_FLOAT(1.0e9) /* kernel clamp of offsets and times (finite in, finite out) */
 #define CG_SEED_SALT_WORLEY 1597334677
@@ -276,11 +277,21 @@ CG_FN float cg_wave_sine(float xw, float p) {
   return CG_FLOAT(0.5) + CG_FLOAT(0.5) * sin(CG_TWO_PI * (CG_WAVE_FREQUENCY * xw + CG_WAVE_WARP * p));
 }
 
-/* N from its parts (P, W, Sw; 1/2 stands for a part not needed) and the clamped weights. */
-CG_FN float cg_cloud_noise_combine(float p, float worley, float sine, float wi, float wv, float ni) {
+/* Fibres: P mixed toward its ridged form R = 2 min(|P| s, 1) - 1 (s = CG_FIBRE_SHARPNESS), which is
+ * -1 (dense) on the zero set of P and +1 (clear) wherever |P| >= 1/s: thin sheets through the
+ * volume that Stretch draws out into filaments (cirrus). f = 0 is P itself; f is clamped to [0, 1]. */
+CG_FN float cg_fibre_noise(float p, float fibres) {
+  float f = clamp(fibres, 0, 1);
+  if (f > 0) return mix(p, 2 * min(fabs(p) * CG_FIBRE_SHARPNESS, CG_FLOAT(1.0)) - 1, f);
+  return p;
+}
+
+/* N from its parts (P, W, Sw; 1/2 stands for a part not needed) and the clamped weights
+ * (fibres: the Fibres weight, clamped by cg_fibre_noise). */
+CG_FN float cg_cloud_noise_combine(float p, float worley, float sine, float wi, float wv, float ni, float fibres) {
   float billow = CG_FLOAT(0.5);
   if (wi > 0) billow = mix(CG_FLOAT(0.5), mix(worley, sine, wv), wi);
-  return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * p, ni), 0, 1);
+  return clamp(billow * mix(1, 1 + 2 * CG_PERLIN_CONTRAST * cg_fibre_noise(p, fibres), ni), 0, 1);
 }
 
 /* The point the noise is read at: x stretched by 1 + Stretch (features that
@@ -343,12 +354,13 @@ CG_FN float cg_turret_mix(float n, float turret, float ti) { return clamp(mix(n,
  *   P  = gradient-noise fBm in [-1,1] (Noise Detail octaves, gain Noise Whisp)
  *   W  = Worley-billow fBm in [0,1] (2 octaves, gain Worley Clump)
  *   Sw = 1/2 + 1/2 sin(2 pi (f_wave x_w + warp P))          (sine texture)
+ *   Pf = mix(P, 2 min(|P| s, 1) - 1, Fibres)                 (fibres, s = CG_FIBRE_SHARPNESS)
  *   N0 = clamp(mix(1/2, mix(W, Sw, Wave), Worley Influence)
- *              * mix(1, 1 + 2 contrast P, Noise Influence), 0, 1)   (Perlin–Worley)
+ *              * mix(1, 1 + 2 contrast Pf, Noise Influence), 0, 1)   (Perlin–Worley)
  *   N  = clamp(mix(N0, W_T, Turret Influence), 0, 1)    (W_T: one large Worley octave)
  * pw, pp and pt are the (warped) point in Worley, gradient-noise and turret lattice units. */
 CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, CG_VEC3 pt, float w4, float worley_influence, float worley_clump,
-                           float wave, float noise_influence, float noise_detail, float noise_whisp,
+                           float wave, float noise_influence, float noise_detail, float noise_whisp, float fibres,
                            float turret_influence, float lod_worley_octaves, float lod_perlin_octaves, int seed) {
   float wi = clamp(worley_influence, 0, 1);
   float wv = clamp(wave, 0, 1);
@@ -361,7 +373,7 @@ CG_FN float cg_cloud_noise(CG_VEC3 pw, CG_VEC3 pp, CG_VEC3 pt, float w4, float w
     worley = cg_worley_fbm(pw, CG_WORLEY_OCTAVES, lod_worley_octaves, worley_clump, seed ^ CG_SEED_SALT_WORLEY);
   float sine = CG_FLOAT(0.5);
   if (cg_noise_uses_sine(wi, wv)) sine = cg_wave_sine(pw[0], p);
-  float n = cg_cloud_noise_combine(p, worley, sine, wi, wv, ni);
+  float n = cg_cloud_noise_combine(p, worley, sine, wi, wv, ni, fibres);
   if (ti > 0) n = cg_turret_mix(n, cg_turret(pt, seed), ti);
   return n;
 }
