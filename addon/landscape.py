@@ -83,9 +83,9 @@ def _ground_material():
     noise.inputs["Detail"].default_value = 6.0
     ramp = nt.nodes.new("ShaderNodeValToRGB")
     ramp.color_ramp.elements[0].position = 0.42
-    ramp.color_ramp.elements[0].color = (0.035, 0.05, 0.025, 1.0)  # woods
+    ramp.color_ramp.elements[0].color = (0.045, 0.05, 0.04, 1.0)  # woods
     ramp.color_ramp.elements[1].position = 0.6
-    ramp.color_ramp.elements[1].color = (0.09, 0.085, 0.055, 1.0)  # fields, dry grass
+    ramp.color_ramp.elements[1].color = (0.10, 0.095, 0.08, 1.0)  # fields, dry grass
     bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
     bsdf.inputs["Roughness"].default_value = 1.0
     out = nt.nodes.new("ShaderNodeOutputMaterial")

@@ -77,6 +77,22 @@ def test_landscape_made_once_and_clear_at_the_camera(addon, scene):
     assert scatter.inputs["Density"].default_value == pytest.approx(want, rel=1e-6)
 
 
+def test_ground_albedo_is_dim_and_nearly_grey(addon, scene):
+    # A thick cloud's base is lit mostly by the ground: a green ground (woods 0.035/0.05/0.025)
+    # rendered a cumulus base olive (RGB 58/63/53, docs/lighting.md). Every colour of the
+    # ground's ramp: linear albedo 0.04-0.10 per channel (to 1e-6), largest/smallest channel <= 1.3.
+    import bpy
+
+    _camera(scene)
+    assert bpy.ops.cloudgen.sky_setup(landscape=True) == {"FINISHED"}
+    ground = scene.objects[addon.landscape.GROUND]
+    ramp = next(n for n in ground.data.materials[0].node_tree.nodes if n.bl_idname == "ShaderNodeValToRGB")
+    for e in ramp.color_ramp.elements:
+        rgb = tuple(e.color)[:3]
+        assert all(0.04 - 1e-6 <= c <= 0.10 + 1e-6 for c in rgb), rgb  # float32 storage
+        assert max(rgb) / min(rgb) <= 1.3, rgb
+
+
 def test_hill_height_scales_the_hills(addon, scene):
     """landscape(hill_km=1.0) raises the far hills 4x (tolerance: the evaluated maximum within
     10 % of 4x the default's, the same texture) and the haze box reaches below the lowest
