@@ -13,11 +13,7 @@ namespace {
 
 using cg::vec3;
 
-cg::Params preset(const char* name) {
-  const cg::Preset* p = cg::find_preset(name);
-  EXPECT_NE(p, nullptr) << "preset '" << name << "' missing";
-  return p ? p->params : cg::Params();
-}
+using cgtest::preset;
 
 // A camera at `eye` looking along +y (Blender: rotation X = 90°), given as JSON.
 std::string camera_json(vec3 eye, double tan_x, double tan_y, int w, int h, const std::string& extra = "") {

@@ -21,11 +21,7 @@ namespace {
 
 using cg::vec3;
 
-cg::Params preset(const char* name) {
-  const cg::Preset* p = cg::find_preset(name);
-  EXPECT_NE(p, nullptr) << "preset '" << name << "' missing";
-  return p ? p->params : cg::Params();
-}
+using cgtest::preset;
 
 // value of voxel (x, y, z) of a bake (0 where no tile holds it)
 struct Dense {

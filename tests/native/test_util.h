@@ -10,7 +10,10 @@
 #include <sstream>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "cloudgen/model.h"
+#include "cloudgen/param_io.h"
 #include "cloudgen/params.h"
 
 namespace cgtest {
@@ -87,6 +90,13 @@ inline std::string describe(const cg::Params& p) {
 inline void noise_off(cg::Params& p) {
   p.set(cg::WORLEY_INFLUENCE, 0.0f);
   p.set(cg::NOISE_INFLUENCE, 0.0f);
+}
+
+// A preset's parameters (a failure, and the defaults, when it is missing).
+inline cg::Params preset(const char* name) {
+  const cg::Preset* p = cg::find_preset(name);
+  EXPECT_NE(p, nullptr) << "preset '" << name << "' missing";
+  return p ? p->params : cg::Params();
 }
 
 }  // namespace cgtest
