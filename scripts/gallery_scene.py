@@ -7,9 +7,9 @@ Scale: 1 scene unit = addon/landscape.py's METRES_PER_UNIT (250 m), the presets'
   companions: a field of smaller cumulus of other seeds, every base at the one condensation
   level (COMPANIONS). A lone cloud over an empty plain reads as a toy; a field, shrinking in
   perspective toward the horizon, reads as weather.
-- Layers are baked as NESTED_LEVELS nested boxes around the camera, each twice as wide as the
-  next and with its own voxel size (a pixel's footprint where it is used): the outermost runs
-  until its far edge is FAR_EDGE_DEG above the horizon, where the haze takes it. A layer's
+- Layers are baked as nested_levels(name) nested boxes around the camera, each twice as wide as
+  the next and with its own voxel size (a pixel's footprint where it is used): the outermost runs
+  until its far edge is far_edge_deg(name) above the horizon, where the haze takes it. A layer's
   field inside the inner half of any box wider than it equals the widest box's field (the
   Sheet fade acts only on the outer half; the noise is in scene units), so each level
   renders only its ring (a mask in its material) and the rings join without a seam in the
@@ -50,6 +50,23 @@ BELOW_AIM = {"cumulus_congestus": (0.45, 30.0, 0.6), "cumulonimbus": (0.5, 25.0,
 LAYER_BELOW_PITCH = {"stratus": 20.0, "nimbostratus": 20.0}
 FAR_EDGE_DEG = 1.0
 NESTED_LEVELS = 4
+# overcast decks reach closer to the horizon, with two more levels (each twice as wide): with
+# their far edge 1 degree up, the clear sky beyond it showed side-on as a bright strip along the
+# horizon (altostratus, rounds 10-12: "a bright, hard-edged strip runs the full width at the
+# horizon"); at 0.3 degrees the deck runs into the hills and the haze (altostratus side-on,
+# 320x180, 8 spp: the strip's peak 77 over a deck of 55 became a smooth fall 59 -> 53 -> 47).
+# Raising the haze to 80 % of the deck's base instead left the strip (peak 74).
+OVERCAST = ("stratus", "nimbostratus", "altostratus")
+OVERCAST_FAR_EDGE_DEG = 0.3
+OVERCAST_EXTRA_LEVELS = 2
+
+
+def far_edge_deg(name) -> float:
+    return OVERCAST_FAR_EDGE_DEG if name in OVERCAST else FAR_EDGE_DEG
+
+
+def nested_levels(name) -> int:
+    return NESTED_LEVELS + (OVERCAST_EXTRA_LEVELS if name in OVERCAST else 0)
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
@@ -205,11 +222,11 @@ def _rects_touch(a, b, margin=0.15, ratio=2.5) -> bool:
 
 def widened(name, values):
     """A layer's parameters with its box widened (never narrowed) so that, seen from its
-    centre, its far edge lies FAR_EDGE_DEG above the horizon."""
+    centre, its far edge lies far_edge_deg(name) above the horizon."""
     box = list(values["box_size"])
     if not is_layer(values):
         return values
-    need = 2 * km(BASE_KM.get(name, 2.5)) / math.tan(math.radians(FAR_EDGE_DEG))
+    need = 2 * km(BASE_KM.get(name, 2.5)) / math.tan(math.radians(far_edge_deg(name)))
     if max(box[0], box[1]) >= need:
         return values
     return dict(values, box_size=[max(box[0], need), max(box[1], need), box[2]])
@@ -225,9 +242,10 @@ def layer_levels(name, values, width):
     base = km(BASE_KM.get(name, 2.5))
     tan_x = 18.0 / BELOW_LENS
     levels = []
-    for k in range(NESTED_LEVELS):
+    levels_count = nested_levels(name)
+    for k in range(levels_count):
         size = wide / 2 ** k
-        inner = wide / 2 ** (k + 3) if k < NESTED_LEVELS - 1 else 0.0
+        inner = wide / 2 ** (k + 3) if k < levels_count - 1 else 0.0
         outer = None if k == 0 else wide / 2 ** (k + 2)
         nearest = math.hypot(base, inner)
         voxel = PIXELS_PER_VOXEL * nearest * 2 * tan_x / width

@@ -1,6 +1,7 @@
 """The gallery's scene geometry (scripts/gallery_scene.py; no Blender needed): companion
 clouds each have their own proportions within the stated ranges (exact bounds), and side-on no
 two of similar picture size touch (the round-5 "snowman": a far cloud under a near one)."""
+import math
 import random
 import sys
 
@@ -141,3 +142,21 @@ def test_thin_layer_levels_are_box_filtered_where_the_layer_is_resolved():
     # the nimbostratus is thick in voxels at every level: point samples
     nb = _values("nimbostratus")
     assert all(gs.level_supersample(lv, res) == 1 for lv, res, _, _ in gs.layer_levels("nimbostratus", nb, 640))
+
+
+def test_overcast_decks_reach_closer_to_the_horizon():
+    # Overcast decks are widened until their far edge is OVERCAST_FAR_EDGE_DEG (0.3) above the
+    # horizon, seen from the centre at ground level (1e-9 relative), with two more nested levels;
+    # other layers keep FAR_EDGE_DEG (1) and NESTED_LEVELS. Each level's ring joins the next
+    # (outer of level k+1 == inner of level k, exact) and the innermost has no hole.
+    for name in ("stratus", "nimbostratus", "altostratus", "altocumulus"):
+        values = _values(name)
+        half = values["box_size"][0] / 2
+        deg = math.degrees(math.atan(gs.km(gs.BASE_KM[name]) / half))
+        want = gs.OVERCAST_FAR_EDGE_DEG if name in gs.OVERCAST else gs.FAR_EDGE_DEG
+        assert deg == pytest.approx(want, rel=1e-9), (name, deg)
+        levels = gs.layer_levels(name, values, 640)
+        assert len(levels) == gs.NESTED_LEVELS + (gs.OVERCAST_EXTRA_LEVELS if name in gs.OVERCAST else 0), name
+        for (_, _, inner, _), (_, _, _, outer) in zip(levels, levels[1:]):
+            assert outer == inner, (name, inner, outer)
+        assert levels[-1][2] == 0.0 and levels[0][3] is None, name
