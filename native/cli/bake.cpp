@@ -343,15 +343,15 @@ int cmd_bake(const std::vector<std::string>& argv) {
                        {"key", plan[fi].key}});
     const double gib = double(cg::estimate_bake_bytes(first.model, first.opts)) / double(1ull << 30);
     const int threads = cg::resolve_threads(opts.threads);
-    char ring[140] = "";
+    char ring[100] = "", samples[40] = "";
     if (opts.has_ring()) std::snprintf(ring, sizeof ring, ", ring [%g, %g)", opts.ring_inner, opts.ring_outer);
-    if (opts.supersample > 1)
-      std::snprintf(ring + std::strlen(ring), sizeof ring - std::strlen(ring), ", %d^3 samples per voxel",
-                    opts.supersample);
+    if (opts.samples_per_axis() > 1)
+      std::snprintf(samples, sizeof samples, ", %d^3 samples per voxel", opts.samples_per_axis());
     char human[400];
-    std::snprintf(human, sizeof human, "bake: %s, %dx%dx%d voxels of %g%s, estimated memory <= %.3f GiB, %d thread(s)",
+    std::snprintf(human, sizeof human,
+                  "bake: %s, %dx%dx%d voxels of %g%s%s, estimated memory <= %.3f GiB, %d thread(s)",
                   preset.empty() ? "parameters" : preset.c_str(), first.grid.n[0], first.grid.n[1], first.grid.n[2],
-                  first.grid.voxel, ring, gib, threads);
+                  first.grid.voxel, ring, samples, gib, threads);
     Fields plan_fields = {{"protocol", cg::kProtocolVersion},
                           {"files", files},
                           {"grid", {first.grid.n[0], first.grid.n[1], first.grid.n[2]}},
@@ -359,7 +359,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
                           {"memory_gib", gib},
                           {"threads", threads},
                           {"preset", preset.empty() ? Fields() : Fields(preset)}};
-    if (opts.supersample > 1) plan_fields["supersample"] = opts.supersample;
+    if (opts.samples_per_axis() > 1) plan_fields["supersample"] = opts.samples_per_axis();
     if (opts.has_ring())  // [inner, outer], outer null when unlimited
       plan_fields["ring"] = {opts.ring_inner, std::isinf(opts.ring_outer) ? Fields() : Fields(opts.ring_outer)};
     emit("plan", plan_fields, quiet ? "" : human);
@@ -442,7 +442,7 @@ int cmd_bake(const std::vector<std::string>& argv) {
     wo.time = job.params.get(cg::TIME);
     wo.resolution = std::max({p.grid.n[0], p.grid.n[1], p.grid.n[2]});
     wo.bake_key = p.key;
-    wo.supersample = p.opts.supersample;
+    wo.supersample = p.opts.samples_per_axis();
     if (p.opts.brick_count > 1) {
       cg::BakeOptions whole = p.opts;
       whole.brick_index = 0, whole.brick_count = 1;

@@ -58,15 +58,13 @@ float tile_bound(const Model& m, const GridSpec& g, const TileRange& r, float re
   return shape_upper_bound(m, lo, hi);
 }
 
-int clamped_supersample(const BakeOptions& o) { return std::clamp(o.supersample, 1, kMaxSupersample); }
-
 // Offset of sub-sample s (of k per axis) from the voxel's centre, in voxels: the
 // centres of a k-cell split of [-1/2, 1/2].
 float sub_offset(int s, int k) { return (float(s) + 0.5f) / float(k) - 0.5f; }
 
 // How far a voxel's farthest sub-sample lies from its centre along an axis (scene units).
 float sample_reach(const BakeOptions& o, float voxel) {
-  const int k = clamped_supersample(o);
+  const int k = o.samples_per_axis();
   return k > 1 ? sub_offset(k - 1, k) * voxel : 0.0f;
 }
 
@@ -135,7 +133,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
   BakeResult result;
   result.grid = bake_grid(m, o);
   const GridSpec& g = result.grid;
-  const int k = clamped_supersample(o);
+  const int k = o.samples_per_axis();
   const Lod lod = o.lod ? lod_for_footprint(m, g.voxel / float(k)) : kNoLod;
   const float reach = sample_reach(o, g.voxel);
   const bool ring = o.has_ring();

@@ -88,20 +88,7 @@ std::vector<Named> parameter_sets() {
   return sets;
 }
 
-// The bake as a dense array (x fastest), 0 where no tile was kept.
-std::vector<float> to_dense(const cg::BakeResult& r) {
-  const cg::GridSpec& g = r.grid;
-  std::vector<float> out(std::size_t(g.voxel_count()), 0.0f);
-  for (const cg::Tile& t : r.tiles)
-    for (int k = 0; k < cg::kTile; ++k)
-      for (int j = 0; j < cg::kTile; ++j)
-        for (int i = 0; i < cg::kTile; ++i) {
-          const int x = t.index[0] + i, y = t.index[1] + j, z = t.index[2] + k;
-          if (x >= g.n[0] || y >= g.n[1] || z >= g.n[2]) continue;
-          out[(std::size_t(z) * g.n[1] + y) * g.n[0] + x] = t.values[(k * cg::kTile + j) * cg::kTile + i];
-        }
-  return out;
-}
+using cgtest::to_dense;
 
 int test_resolution() { return cgtest::sanitize() ? 32 : 48; }
 

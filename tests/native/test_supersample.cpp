@@ -23,22 +23,8 @@ using cg::vec3;
 
 using cgtest::preset;
 
-// value of voxel (x, y, z) of a bake (0 where no tile holds it)
-struct Dense {
-  cg::GridSpec g;
-  std::vector<float> v;
-  explicit Dense(const cg::BakeResult& r) : g(r.grid), v(std::size_t(r.grid.voxel_count()), 0.0f) {
-    for (const cg::Tile& t : r.tiles)
-      for (int k = 0; k < cg::kTile; ++k)
-        for (int j = 0; j < cg::kTile; ++j)
-          for (int i = 0; i < cg::kTile; ++i) {
-            const int x = t.index[0] + i, y = t.index[1] + j, z = t.index[2] + k;
-            if (x < g.n[0] && y < g.n[1] && z < g.n[2])
-              v[index(x, y, z)] = t.values[(k * cg::kTile + j) * cg::kTile + i];
-          }
-  }
-  std::size_t index(int x, int y, int z) const { return (std::size_t(z) * g.n[1] + y) * g.n[0] + x; }
-};
+using cgtest::dense_index;
+using cgtest::to_dense;
 
 // The mean of n^3 densities on a regular sub-grid of voxel (x, y, z)'s cell.
 double cell_mean(const cg::Model& m, const cg::GridSpec& g, int x, int y, int z, int n, const cg::Lod& lod) {
@@ -59,17 +45,28 @@ TEST(Supersample, OneIsThePointSampledBake) {
   cg::BakeOptions d;
   d.resolution = 32;
   d.threads = 2;
-  const Dense a(cg::bake(m, d));
+  const std::vector<float> a = to_dense(cg::bake(m, d));
   for (int k : {0, 1}) {
     cg::BakeOptions o = d;
     o.supersample = k;
-    const Dense b(cg::bake(m, o));
-    ASSERT_EQ(a.v.size(), b.v.size());
-    for (std::size_t i = 0; i < a.v.size(); ++i) ASSERT_EQ(a.v[i], b.v[i]) << "supersample " << k << ", voxel " << i;
+    const std::vector<float> b = to_dense(cg::bake(m, o));
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "supersample " << k << ", voxel " << i;
   }
-  cg::BakeOptions one = d;
-  one.supersample = 1;
-  EXPECT_EQ(cg::bake_key(m, one, false), cg::bake_key(m, d, false)) << "supersample 1 keeps the point bake's key";
+  for (int k : {0, 1}) {
+    cg::BakeOptions one = d;
+    one.supersample = k;
+    EXPECT_EQ(cg::bake_key(m, one, false), cg::bake_key(m, d, false))
+        << "supersample " << k << ": the point bake's key";
+  }
+  // Above kMaxSupersample the bake and its key are those of kMaxSupersample (one clamp rule).
+  cg::BakeOptions most = d, beyond = d;
+  most.supersample = cg::kMaxSupersample;
+  beyond.supersample = cg::kMaxSupersample + 5;
+  EXPECT_EQ(cg::bake_key(m, beyond, false), cg::bake_key(m, most, false));
+  const std::vector<float> c = to_dense(cg::bake(m, most)), e = to_dense(cg::bake(m, beyond));
+  for (std::size_t i = 0; i < c.size(); ++i)
+    ASSERT_EQ(c[i], e[i]) << "supersample " << beyond.supersample << ", voxel " << i;
 }
 
 TEST(Supersample, VoxelIsTheMeanOfItsSubSamples) {
@@ -91,7 +88,7 @@ TEST(Supersample, VoxelIsTheMeanOfItsSubSamples) {
       }
       o.supersample = k;
       const cg::BakeResult r = cg::bake(m, o);
-      const Dense a(r);
+      const std::vector<float> a = to_dense(r);
       const cg::Lod lod = cg::lod_for_footprint(m, r.grid.voxel / float(k));
       EXPECT_EQ(r.stats.lod_worley_octaves, lod.worley_octaves) << name << " k " << k;
       EXPECT_EQ(r.stats.samples_evaluated, r.stats.voxels_evaluated * k * k * k) << name << " k " << k;
@@ -99,7 +96,7 @@ TEST(Supersample, VoxelIsTheMeanOfItsSubSamples) {
       for (int z = 0; z < r.grid.n[2]; ++z)
         for (int y = 0; y < r.grid.n[1]; ++y)
           for (int x = 0; x < r.grid.n[0]; ++x) {
-            const float got = a.v[a.index(x, y, z)];
+            const float got = a[dense_index(r.grid, x, y, z)];
             const vec3 c = r.grid.centre(x, y, z);
             const bool kept = std::max(std::fabs(c[0]), std::fabs(c[1])) < o.ring_outer + r.grid.voxel;
             const double want = kept ? cell_mean(m, r.grid, x, y, z, k, lod) : 0.0;
@@ -111,9 +108,9 @@ TEST(Supersample, VoxelIsTheMeanOfItsSubSamples) {
       EXPECT_GT(active, 0) << name << " k " << k << ": empty bake";
       cg::BakeOptions dense = o;
       dense.skip_empty = false;
-      const Dense b(cg::bake(m, dense));
-      for (std::size_t i = 0; i < a.v.size(); ++i)
-        ASSERT_EQ(a.v[i], b.v[i]) << name << ", supersample " << k << ": sparse != dense at voxel " << i;
+      const std::vector<float> b = to_dense(cg::bake(m, dense));
+      for (std::size_t i = 0; i < a.size(); ++i)
+        ASSERT_EQ(a[i], b[i]) << name << ", supersample " << k << ": sparse != dense at voxel " << i;
       cg::BakeOptions point = o;
       point.supersample = 1;
       EXPECT_NE(cg::bake_key(m, o, false), cg::bake_key(m, point, false)) << name << " k " << k;
@@ -140,7 +137,7 @@ TEST(Supersample, BoxFilteredThinLayerIsNearerTheCellMean) {
     o.threads = 2;
     o.supersample = k;
     const cg::BakeResult r = cg::bake(m, o);
-    const Dense a(r);
+    const std::vector<float> a = to_dense(r);
     const cg::GridSpec& g = r.grid;
     double err2 = 0.0, ref2 = 0.0, col_err2 = 0.0, col_ref2 = 0.0;
     std::int64_t n = 0, columns = 0;
@@ -151,7 +148,7 @@ TEST(Supersample, BoxFilteredThinLayerIsNearerTheCellMean) {
         double col = 0.0, col_ref = 0.0;
         for (int z = 0; z < g.n[2]; ++z) {
           const double want = cell_mean(m, g, x, y, z, reference_n, cg::kNoLod);
-          const double got = a.v[a.index(x, y, z)];
+          const double got = a[dense_index(g, x, y, z)];
           err2 += (got - want) * (got - want);
           ref2 += want * want;
           col += got, col_ref += want;

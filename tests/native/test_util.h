@@ -9,9 +9,11 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "cloudgen/grid.h"
 #include "cloudgen/model.h"
 #include "cloudgen/param_io.h"
 #include "cloudgen/params.h"
@@ -97,6 +99,25 @@ inline cg::Params preset(const char* name) {
   const cg::Preset* p = cg::find_preset(name);
   EXPECT_NE(p, nullptr) << "preset '" << name << "' missing";
   return p ? p->params : cg::Params();
+}
+
+// The bake as a dense array (x fastest), 0 where no tile was kept; voxel (x, y, z) is at
+// dense_index(grid, x, y, z).
+inline std::size_t dense_index(const cg::GridSpec& g, int x, int y, int z) {
+  return (std::size_t(z) * std::size_t(g.n[1]) + std::size_t(y)) * std::size_t(g.n[0]) + std::size_t(x);
+}
+inline std::vector<float> to_dense(const cg::BakeResult& r) {
+  const cg::GridSpec& g = r.grid;
+  std::vector<float> out(std::size_t(g.voxel_count()), 0.0f);
+  for (const cg::Tile& t : r.tiles)
+    for (int k = 0; k < cg::kTile; ++k)
+      for (int j = 0; j < cg::kTile; ++j)
+        for (int i = 0; i < cg::kTile; ++i) {
+          const int x = t.index[0] + i, y = t.index[1] + j, z = t.index[2] + k;
+          if (x >= g.n[0] || y >= g.n[1] || z >= g.n[2]) continue;
+          out[dense_index(g, x, y, z)] = t.values[(k * cg::kTile + j) * cg::kTile + i];
+        }
+  return out;
 }
 
 }  // namespace cgtest

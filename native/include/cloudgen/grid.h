@@ -54,6 +54,10 @@ struct BakeOptions {
   // them into stripes (docs/gallery/moire), the cell's mean does not. The LOD
   // then keeps octaves down to the sub-sample spacing. Cost: supersample^3.
   int supersample = 1;
+  // supersample clamped to [1, kMaxSupersample]: what the bake, its key and its file use.
+  int samples_per_axis() const {
+    return supersample < 1 ? 1 : supersample > kMaxSupersample ? kMaxSupersample : supersample;
+  }
   int threads = 0;          // 0 = one per hardware thread
   float voxel = 0.0f;       // > 0: this voxel edge instead of `resolution` (camera-aware bake)
   bool use_region = false;  // bake only tiles that meet `region` (camera-aware bake)
