@@ -62,11 +62,10 @@ HILLS_KM = {"stratus": 2.5, "nimbostratus": 1.0}
 # visibility in docs/lighting.md; round 9: "evenly pale grey-green, no sunlit side"). The layers
 # keep landscape.VISIBILITY_KM: their far edge is hidden in it.
 CLEAN_AIR_KM = 200.0
-# under a sheet that hides the sun a camera is balanced to the overcast's own light, not to the
+# under a sheet that hides the sun (gs.OVERCAST) a camera is balanced to the overcast's own light, not to the
 # sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
 # round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
 OVERCAST_BALANCE_K = 5700.0
-OVERCAST = {"stratus", "nimbostratus", "altostratus"}
 # ... and it is exposed for the overcast's own light, as a camera's averaging meter would: the
 # frame's mean scene-linear luminance to OVERCAST_KEY (a grey day a little under middle grey,
 # 0.18). Exposed for the hidden sun (sky_light.exposure_for) the nimbostratus with its rain came
@@ -243,7 +242,7 @@ def shot(name, view, sun, values, baked, out_png, args):
     else:
         sl.daylight(scene, *sun_direction(name, view, sun, compact="main" in baked))
     sun_seen = view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE  # its light, its balance
-    if name in OVERCAST and not sun_seen and hasattr(scene.view_settings, "use_white_balance"):
+    if name in gs.OVERCAST and not sun_seen and hasattr(scene.view_settings, "use_white_balance"):
         scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
     ls = render_cloud._addon_file("landscape")
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM),
@@ -255,7 +254,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         box = rain.rain_box(values, centre, cn.density,
                             half=ls.units(ls.TERRAIN_HALF_KM) if gs.is_layer(values) else None)
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
-    if name in OVERCAST:
+    if name in gs.OVERCAST:
         scene.view_settings.exposure = meter(scene, render_cloud)
         print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")

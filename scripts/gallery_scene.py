@@ -56,6 +56,7 @@ NESTED_LEVELS = 4
 # horizon"); at 0.3 degrees the deck runs into the hills and the haze (altostratus side-on,
 # 320x180, 8 spp: the strip's peak 77 over a deck of 55 became a smooth fall 59 -> 53 -> 47).
 # Raising the haze to 80 % of the deck's base instead left the strip (peak 74).
+# the overcast decks (one list: gallery.py balances and meters these too)
 OVERCAST = ("stratus", "nimbostratus", "altostratus")
 OVERCAST_FAR_EDGE_DEG = 0.3
 OVERCAST_EXTRA_LEVELS = 2
