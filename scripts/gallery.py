@@ -24,6 +24,8 @@ Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain und
 clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
 grey overcasts the camera is balanced and exposed for the overcast's own light (meter()).
+Each PNG render also gets its camera finish, NN.jpg (vignetting, sensor grain, in-camera
+sharpening, JPEG: scripts/camera_finish.py; --no-finish: none); measure on the PNG.
 Files are numbered in a shuffled order (NN.png, no type in the name) so a reviewer sees no
 hint; the key is written to --names (default OUT/key.json).
 1 scene unit is 250 m.
@@ -41,6 +43,7 @@ import tempfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "osl"))
+import camera_finish  # noqa: E402
 import gallery_scene as gs  # noqa: E402
 
 SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
@@ -137,6 +140,8 @@ def parse_args(argv):
     ap.add_argument("--seed", type=int, default=13, help="shuffle of the file numbers")
     ap.add_argument("--format", default="png", choices=("png", "exr"), help="png (default) or exr (scene-linear)")
     ap.add_argument("--bake-dir", default=None, help="keep the baked VDBs here (default: a temporary folder)")
+    ap.add_argument("--no-finish", action="store_true",
+                    help="write only the render, not also its camera finish NN.jpg (scripts/camera_finish.py)")
     return ap.parse_args(argv)
 
 
@@ -304,6 +309,10 @@ def main(argv=None):
             png = out / f"{number:02d}.{args.format}"
             seconds = shot(name, view, sun, values, baked[name], str(png), args)
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
+            if args.format == "png" and not args.no_finish:  # the render as a camera records it
+                jpg = png.with_suffix(".jpg")
+                camera_finish.finish_file(str(png), str(jpg), seed=number)
+                key[png.name]["finished"] = jpg.name
             key_path.write_text(json.dumps(key, indent=1, sort_keys=True) + "\n")
             print(f"gallery: {png} {name} {view}-{sun} {seconds:.1f} s", flush=True)
 

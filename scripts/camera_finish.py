@@ -1,0 +1,120 @@
+"""A camera's finish for the gallery's pictures: what a photograph carries and a denoised path
+traced render does not. Three blind reviewers in a row (docs/gallery, rounds 11-13) named its
+absence first: "no grain, compression noise or lens character at all" (the renders' mean step
+between neighbouring pixels measured 0.44-0.6 display levels in 15 of 22 skies).
+
+The steps, in a camera's order, each a fixed physical-looking amount (not tuned per image):
+  1. vignetting: light falls off toward the corners (VIGNETTE_CORNER of the centre's, smooth
+     in the square of the distance from the centre), in scene-linear light;
+  2. sensor noise: photon shot noise (variance proportional to the light) plus read noise,
+     in scene-linear light, mostly shared by the three channels (luminance grain, the chroma
+     noise a camera's own noise reduction leaves), correlated over about a pixel as demosaicing
+     leaves it;
+  3. in-camera sharpening: an unsharp mask on the display-encoded picture;
+  4. JPEG at quality JPEG_QUALITY with 4:2:0 chroma subsampling, as cameras write.
+
+The render itself (the PNG) is kept: measurements (levels, clipping, profiles) are taken on it,
+never on the finished JPEG. The add-on does not apply this; it is the gallery's camera.
+
+Usage: python scripts/camera_finish.py IN.png OUT.jpg [--seed N]
+"""
+import argparse
+import os
+import sys
+
+import numpy as np
+
+VIGNETTE_CORNER = 0.80  # light at a corner relative to the centre (about -1/3 stop)
+# noise in scene-linear units (display white = 1): sigma^2 = SHOT * L + READ^2. SHOT is set so
+# that middle grey (L = 0.18, display level 118) carries a grain of about 2 display levels, as
+# a small sensor at ISO 200-400 does
+SHOT = 2.4e-4
+READ = 1.0e-3
+CHROMA_SHARE = 0.35  # of each channel's noise, the part not shared with the other two
+SHARPEN_AMOUNT, SHARPEN_SIGMA = 0.5, 1.0  # unsharp mask: amount, Gaussian radius (pixels)
+JPEG_QUALITY = 90
+
+
+def srgb_to_linear(v):
+    """Display-encoded values in [0, 1] to linear (the sRGB transfer curve)."""
+    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+
+
+def linear_to_srgb(v):
+    """Linear values (clipped to [0, 1]) to display-encoded ones (the sRGB transfer curve)."""
+    v = np.clip(v, 0.0, 1.0)
+    return np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1.0 / 2.4) - 0.055)
+
+
+def _blur(img, sigma):
+    """A separable Gaussian blur of an (h, w[, c]) array, edges clamped."""
+    r = max(1, int(3.0 * sigma + 0.5))
+    x = np.arange(-r, r + 1, dtype=np.float64)
+    k = np.exp(-0.5 * (x / sigma) ** 2)
+    k /= k.sum()
+    out = img
+    for axis in (0, 1):
+        pad = [(0, 0)] * img.ndim
+        pad[axis] = (r, r)
+        p = np.pad(out, pad, mode="edge")
+        n = out.shape[axis]
+        out = sum(w * np.take(p, np.arange(i, i + n), axis=axis) for i, w in enumerate(k))
+    return out
+
+
+def _correlated_noise(rng, shape):
+    """Unit-variance noise correlated over about a pixel (a [1 2 1]/4 kernel on each axis)."""
+    n = rng.standard_normal((shape[0] + 2, shape[1] + 2) + shape[2:])
+    n = 0.25 * n[:-2] + 0.5 * n[1:-1] + 0.25 * n[2:]
+    n = 0.25 * n[:, :-2] + 0.5 * n[:, 1:-1] + 0.25 * n[:, 2:]
+    return n / 0.375  # each pass keeps sqrt(1/16 + 4/16 + 1/16) of the deviation
+
+
+def finish(rgb8, seed):
+    """The finished picture (uint8, h x w x 3) of a display-encoded uint8 render, before the
+    JPEG step. Deterministic for a seed."""
+    if rgb8.ndim != 3 or rgb8.shape[2] != 3 or rgb8.dtype != np.uint8:
+        raise ValueError(f"camera_finish: expected an h x w x 3 uint8 picture, got {rgb8.shape} {rgb8.dtype}")
+    h, w, _ = rgb8.shape
+    lin = srgb_to_linear(rgb8.astype(np.float64) / 255.0)
+    yy, xx = np.mgrid[0:h, 0:w]
+    r2 = ((xx - 0.5 * (w - 1)) ** 2 + (yy - 0.5 * (h - 1)) ** 2) / (0.25 * ((w - 1) ** 2 + (h - 1) ** 2))
+    lin = lin * (1.0 - (1.0 - VIGNETTE_CORNER) * r2)[..., None]
+    rng = np.random.default_rng(seed)
+    shared = _correlated_noise(rng, (h, w))[..., None]
+    own = _correlated_noise(rng, (h, w, 3))
+    unit = np.sqrt(1.0 - CHROMA_SHARE ** 2) * shared + CHROMA_SHARE * own
+    lin = lin + np.sqrt(SHOT * np.clip(lin, 0.0, None) + READ ** 2) * unit
+    disp = linear_to_srgb(lin)
+    disp = disp + SHARPEN_AMOUNT * (disp - _blur(disp, SHARPEN_SIGMA))
+    return (np.clip(disp, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+
+
+def finish_file(src, dst, seed):
+    """Finish the PNG `src` into the JPEG `dst`, written atomically (a temporary file beside it,
+    then renamed)."""
+    from PIL import Image
+
+    with Image.open(src) as im:
+        rgb8 = np.asarray(im.convert("RGB"))
+    out = Image.fromarray(finish(rgb8, seed))
+    tmp = f"{dst}.part"
+    try:
+        out.save(tmp, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
+        os.replace(tmp, dst)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("src")
+    ap.add_argument("dst")
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args(argv)
+    finish_file(args.src, args.dst, args.seed)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,75 @@
+"""The gallery's camera finish (scripts/camera_finish.py; numpy and Pillow, no Blender): the
+grain it adds is the stated amount, it leaves the picture's levels where they were, the
+vignette falls to the stated corner, it is repeatable, and its file is written atomically."""
+import sys
+
+import numpy as np
+import pytest
+from test_cli import REPO_ROOT
+
+sys.path.insert(0, str(REPO_ROOT / "scripts"))
+import camera_finish as cf  # noqa: E402
+
+
+def _flat(level, h=120, w=200):
+    return np.full((h, w, 3), level, np.uint8)
+
+
+@pytest.mark.parametrize("level", [40, 118, 200])
+def test_grain_is_a_few_levels_and_keeps_the_mean(level):
+    """Centre of a flat picture (vignette < 1 % there): mean within 1 level, grain std 0.8-4
+    display levels (shot noise: more in the mid-tones than near black)."""
+    out = cf.finish(_flat(level), seed=5).astype(np.float64)
+    centre = out[50:70, 85:115]
+    lin_v = 1.0 - (1.0 - cf.VIGNETTE_CORNER) * 0.02  # r^2 <= 0.02 in this window
+    expect = 255.0 * cf.linear_to_srgb(cf.srgb_to_linear(level / 255.0) * lin_v)
+    assert abs(centre.mean() - level) < 1.0 + abs(level - expect), f"level {level}: mean {centre.mean():.2f}"
+    assert 0.8 < centre.std() < 4.0, f"level {level}: grain std {centre.std():.2f} levels"
+
+
+def test_vignette_reaches_the_corner_value():
+    """A corner's light is VIGNETTE_CORNER of the centre's, within 3 % (grain averaged out)."""
+    out = cf.finish(_flat(180, 240, 400), seed=1).astype(np.float64) / 255.0
+    lin = cf.srgb_to_linear(out)
+    ratio = lin[:6, :6].mean() / lin[115:125, 195:205].mean()
+    assert abs(ratio - cf.VIGNETTE_CORNER) < 0.03, f"corner/centre {ratio:.3f}, expected {cf.VIGNETTE_CORNER}"
+
+
+def test_repeatable_per_seed_and_different_between_seeds():
+    rng = np.random.default_rng(0)
+    img = rng.integers(0, 256, (60, 80, 3), dtype=np.uint8)
+    a, b, c = cf.finish(img, 3), cf.finish(img, 3), cf.finish(img, 4)
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, c)
+
+
+def test_sharpening_overshoots_an_edge_and_stays_in_range():
+    """A step 60 -> 190 gets an in-camera halo: a dark undershoot and a bright overshoot of at
+    least 3 levels (averaged over the rows), and no value leaves [0, 255]."""
+    img = _flat(60)
+    img[:, 100:] = 190
+    out = cf.finish(img, seed=2).astype(np.float64)[40:80].mean(axis=0).mean(axis=1)
+    assert out[98:100].min() < out[80:90].mean() - 3, out[94:106]
+    assert out[100:102].max() > out[110:120].mean() + 3, out[94:106]
+
+
+def test_rejects_what_is_not_an_rgb8_picture():
+    with pytest.raises(ValueError, match="h x w x 3 uint8"):
+        cf.finish(np.zeros((4, 4), np.uint8), 0)
+    with pytest.raises(ValueError, match="h x w x 3 uint8"):
+        cf.finish(np.zeros((4, 4, 3), np.float32), 0)
+
+
+def test_finish_file_writes_a_jpeg_and_no_partial_file(tmp_path):
+    from PIL import Image
+
+    src = tmp_path / "in.png"
+    Image.fromarray(_flat(118)).save(src)
+    dst = tmp_path / "out.jpg"
+    cf.finish_file(str(src), str(dst), seed=0)
+    with Image.open(dst) as im:
+        assert im.format == "JPEG" and im.size == (200, 120)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.png", "out.jpg"]
+    with pytest.raises(OSError):
+        cf.finish_file(str(tmp_path / "missing.png"), str(tmp_path / "x.jpg"), seed=0)
+    assert not (tmp_path / "x.jpg").exists() and not (tmp_path / "x.jpg.part").exists()
