@@ -187,9 +187,9 @@ def bake_all(name, values, work, args):
     if name in gs.COMPANIONS:
         comp = gs.COMPANIONS[name][0]
         cv = dict(cn.defaults(), **cn.presets()[comp]["params"])
-        for i in range(gs.COMPANION_SEEDS):
-            path = os.path.join(work, f"{comp}_seed{101 + i}.vdb")
-            out["companions"].append(bake(comp, dict(cv, seed=101 + i), path, args.resolution // 2))
+        for i, variant in enumerate(gs.COMPANION_VARIANTS):
+            path = os.path.join(work, f"{comp}_companion{i}.vdb")
+            out["companions"].append(bake(comp, dict(cv, **variant, seed=101 + i), path, args.resolution // 2))
     return out
 
 

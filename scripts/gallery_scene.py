@@ -25,11 +25,25 @@ EYE = 0.017  # eye height, scene units (1.7 m)
 BASE_KM = {"cumulus": 1.2, "cumulus_congestus": 1.2, "cumulonimbus": 1.0, "stratocumulus": 1.0,
            "stratus": 0.35, "nimbostratus": 0.7, "altocumulus": 3.0, "altostratus": 3.5,
            "cirrocumulus": 6.5, "cirrus": 7.5, "cirrostratus": 8.0}
-# (companion preset, how many, scale range) beside a compact type's main cloud
-COMPANIONS = {"cumulus": ("cumulus", 14, (0.45, 1.0)),
-              "cumulus_congestus": ("cumulus", 10, (0.5, 1.1)),
-              "cumulonimbus": ("cumulus", 8, (0.7, 1.4))}
-COMPANION_SEEDS = 4
+# (companion preset, how many side-on and from below, scale range) beside a compact type's main
+# cloud; side-on the field runs out to COMPANION_FAR, from below the 24 mm frame holds fewer
+COMPANIONS = {"cumulus": ("cumulus", (100, 24), (0.3, 1.1)),
+              "cumulus_congestus": ("cumulus", (60, 20), (0.35, 1.1)),
+              "cumulonimbus": ("cumulus", (40, 16), (0.5, 1.4))}
+# each companion bake: a seed and what it changes of the preset, so that the field is not one
+# template ("cloned cotton-ball shapes", rounds 12-13): flat humilis, ragged, towering, lumpy
+COMPANION_VARIANTS = (
+    {},
+    {"turret_influence": 0.15, "distortion": 0.8},
+    {"edge_sharpness": 0.55, "noise_influence": 0.55, "density": 1.6},
+    {"turret_influence": 0.65, "distortion": 1.5},
+    {"worley_clump": 0.9, "turret_scale": 3.5},
+    {"turret_influence": 0.3, "noise_influence": 0.45, "edge_sharpness": 0.75},
+)
+COMPANION_SEEDS = len(COMPANION_VARIANTS)
+# side views: companions out to this many times the main cloud's distance; with 14 out to 8 times
+# the sky under the main cloud was empty down to the horizon, where a real field closes up
+COMPANION_FAR = 20.0
 # the main cloud's bake resolution as a multiple of --resolution: the cumulonimbus's box is 45 km
 # wide for its anvil, its tower a sixth of that (at 256 voxels a voxel would be 176 m)
 MAIN_RESOLUTION_SCALE = {"cumulonimbus": 2}
@@ -149,7 +163,8 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     seeds at one aspect read as clones ("bread loaves", blind review round 5)."""
     if name not in COMPANIONS:
         return []
-    _, count, (s_lo, s_hi) = COMPANIONS[name]
+    _, counts, (s_lo, s_hi) = COMPANIONS[name]
+    count = counts[0] if view == "side" else counts[1]
     mx, my, _ = main_values["box_size"]
     cx, cy, cz = comp_values["box_size"]
     z0, z1 = vertical_extent(comp_values)
@@ -164,11 +179,11 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     tries = 0
     while len(placed) < count and tries < 5000:
         tries += 1
-        s = rng.uniform(s_lo, s_hi)
+        s = s_lo * (s_hi / s_lo) ** rng.random()  # log-uniform: more small ones than big ones
         sx, sy, sz = (s * rng.uniform(0.75, 1.5), s * rng.uniform(0.75, 1.5), s * rng.uniform(0.45, 1.1))
         r = 0.5 * math.hypot(cx * sx, cy * sy)
         if view == "side":
-            y = d * math.exp(rng.uniform(math.log(0.5), math.log(8.0)))
+            y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
             x = rng.uniform(-1.2, 1.2) * y * tx
         else:
             y = rng.uniform(-0.5, 4.0) * d + d
