@@ -17,10 +17,12 @@ The render itself (the PNG) is kept: measurements (levels, clipping, profiles) a
 never on the finished JPEG. The add-on does not apply this; it is the gallery's camera.
 
 Usage: python scripts/camera_finish.py IN.png OUT.jpg [--seed N]
+(the seed defaults to a checksum of IN's file name: each picture its own grain)
 """
 import argparse
 import os
 import sys
+import zlib
 
 import numpy as np
 
@@ -111,9 +113,10 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("src")
     ap.add_argument("dst")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=None, help="the grain's seed (default: from IN's file name)")
     args = ap.parse_args(argv)
-    finish_file(args.src, args.dst, args.seed)
+    seed = zlib.crc32(os.path.basename(args.src).encode()) if args.seed is None else args.seed
+    finish_file(args.src, args.dst, seed)
 
 
 if __name__ == "__main__":

@@ -73,3 +73,17 @@ def test_finish_file_writes_a_jpeg_and_no_partial_file(tmp_path):
     with pytest.raises(OSError):
         cf.finish_file(str(tmp_path / "missing.png"), str(tmp_path / "x.jpg"), seed=0)
     assert not (tmp_path / "x.jpg").exists() and not (tmp_path / "x.jpg.part").exists()
+
+
+def test_command_line_seeds_each_file_by_its_name(tmp_path):
+    """Two pictures with the same pixels but different names get different grain (no fixed
+    pattern repeated over a gallery); the same name gives the same file."""
+    from PIL import Image
+
+    for name in ("a.png", "b.png"):
+        Image.fromarray(_flat(118)).save(tmp_path / name)
+    cf.main([str(tmp_path / "a.png"), str(tmp_path / "a.jpg")])
+    cf.main([str(tmp_path / "b.png"), str(tmp_path / "b.jpg")])
+    cf.main([str(tmp_path / "a.png"), str(tmp_path / "a2.jpg")])
+    assert (tmp_path / "a.jpg").read_bytes() == (tmp_path / "a2.jpg").read_bytes()
+    assert (tmp_path / "a.jpg").read_bytes() != (tmp_path / "b.jpg").read_bytes()
