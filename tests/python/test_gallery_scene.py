@@ -160,3 +160,31 @@ def test_overcast_decks_reach_closer_to_the_horizon():
         for (_, _, inner, _), (_, _, _, outer) in zip(levels, levels[1:]):
             assert outer == inner, (name, inner, outer)
         assert levels[-1][2] == 0.0 and levels[0][3] is None, name
+
+
+def test_companion_variants_are_valid_distinct_clouds():
+    """Each companion variant is a valid parameter set over its preset (names and ranges checked
+    by the module), the variants differ from each other, and each still makes a cloud: a
+    central cross-section with density > 0 over at least 5 % of its cells."""
+    assert len(gs.COMPANION_VARIANTS) == gs.COMPANION_SEEDS
+    assert len({tuple(sorted(v.items())) for v in gs.COMPANION_VARIANTS}) == len(gs.COMPANION_VARIANTS)
+    for name in COMPACT:
+        comp = gs.COMPANIONS[name][0]
+        for i, variant in enumerate(gs.COMPANION_VARIANTS):
+            values = cn.resolve_params(dict(cn.presets()[comp]["params"], **variant, seed=101 + i))
+            cut = cn.slice(values, "y", 0.5, 64, 64)
+            assert (cut > 0).mean() > 0.05, f"{comp} variant {i} {variant}: {(cut > 0).mean():.3f} of the cut non-empty"
+
+
+@pytest.mark.parametrize("name", COMPACT)
+def test_side_field_reaches_toward_the_horizon(name):
+    """Side-on the field runs out past half of COMPANION_FAR times the main cloud's distance
+    (with 14 companions out to 8 times the sky under the main cloud was empty, round 13), and
+    at least a third of the companions stand beyond 4 times it."""
+    values = _values(name)
+    comp = dict(cn.defaults(), **cn.presets()[gs.COMPANIONS[name][0]]["params"])
+    centre, _, _, _ = gs.compact_view(name, values, "side", 640, 360)
+    placed = gs.companions(name, values, comp, centre, "side", 640, 360, random.Random(f"{name}-side"))
+    ratios = [y / centre[1] for _, y, _, _, _ in placed]
+    assert max(ratios) > 0.5 * gs.COMPANION_FAR, (name, max(ratios))
+    assert sum(r > 4.0 for r in ratios) >= len(ratios) / 3, (name, sorted(round(r, 1) for r in ratios))
