@@ -92,10 +92,14 @@ def finish(rgb8, seed):
     return (np.clip(disp, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
 
-def finish_file(src, dst, seed):
+def finish_file(src, dst, seed=None):
     """Finish the PNG `src` into the JPEG `dst`, written atomically (a temporary file beside it,
-    then renamed)."""
+    then renamed). The grain's seed defaults to a checksum of src's file name: each picture of
+    a gallery its own grain, the same file the same grain."""
     from PIL import Image
+
+    if seed is None:
+        seed = zlib.crc32(os.path.basename(src).encode())
 
     with Image.open(src) as im:
         rgb8 = np.asarray(im.convert("RGB"))
@@ -115,8 +119,7 @@ def main(argv=None):
     ap.add_argument("dst")
     ap.add_argument("--seed", type=int, default=None, help="the grain's seed (default: from IN's file name)")
     args = ap.parse_args(argv)
-    seed = zlib.crc32(os.path.basename(args.src).encode()) if args.seed is None else args.seed
-    finish_file(args.src, args.dst, seed)
+    finish_file(args.src, args.dst, args.seed)
 
 
 if __name__ == "__main__":

@@ -166,8 +166,6 @@ def bake(name, values, out_vdb, resolution, ring=None, supersample=1):
 def bake_all(name, values, work, args):
     """Bake what a type's shots need: {'main': path} for a compact type (plus 'companions':
     [paths]), {'levels': [(path, inner, outer)]} for a layer."""
-    import cloudgen_native as cn
-
     w = int(args.size.lower().split("x")[0])
     if gs.is_layer(values):
         levels = []
@@ -186,10 +184,9 @@ def bake_all(name, values, work, args):
     out = {"main": bake(name, values, os.path.join(work, f"{name}.vdb"), main_res), "companions": []}
     if name in gs.COMPANIONS:
         comp = gs.COMPANIONS[name][0]
-        cv = dict(cn.defaults(), **cn.presets()[comp]["params"])
-        for i, variant in enumerate(gs.COMPANION_VARIANTS):
+        for i in range(len(gs.COMPANION_VARIANTS)):
             path = os.path.join(work, f"{comp}_companion{i}.vdb")
-            out["companions"].append(bake(comp, dict(cv, **variant, seed=101 + i), path, args.resolution // 2))
+            out["companions"].append(bake(comp, gs.companion_values(name, i), path, args.resolution // 2))
     return out
 
 
@@ -311,7 +308,7 @@ def main(argv=None):
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
             if args.format == "png" and not args.no_finish:  # the render as a camera records it
                 jpg = png.with_suffix(".jpg")
-                camera_finish.finish_file(str(png), str(jpg), seed=number)
+                camera_finish.finish_file(str(png), str(jpg))
                 key[png.name]["finished"] = jpg.name
             key_path.write_text(json.dumps(key, indent=1, sort_keys=True) + "\n")
             print(f"gallery: {png} {name} {view}-{sun} {seconds:.1f} s", flush=True)

@@ -40,7 +40,6 @@ COMPANION_VARIANTS = (
     {"worley_clump": 0.9, "turret_scale": 3.5},
     {"turret_influence": 0.3, "noise_influence": 0.45, "edge_sharpness": 0.75},
 )
-COMPANION_SEEDS = len(COMPANION_VARIANTS)
 # side views: companions out to this many times the main cloud's distance; with 14 out to 8 times
 # the sky under the main cloud was empty down to the horizon, where a real field closes up
 COMPANION_FAR = 20.0
@@ -76,12 +75,29 @@ OVERCAST_FAR_EDGE_DEG = 0.3
 OVERCAST_EXTRA_LEVELS = 2
 
 
+def companion_count(name, view) -> int:
+    """How many companions stand beside a compact type's main cloud in this view."""
+    side, below = COMPANIONS[name][1]
+    return side if view == "side" else below
+
+
+def companion_values(name, i):
+    """The parameters of a compact type's companion bake i (of len(COMPANION_VARIANTS)): the
+    companion preset over the defaults, variant i over that, seed 101 + i."""
+    import cloudgen_native as cn
+
+    comp = COMPANIONS[name][0]
+    return dict(dict(cn.defaults(), **cn.presets()[comp]["params"]), **COMPANION_VARIANTS[i], seed=101 + i)
+
+
 def far_edge_deg(name) -> float:
     return OVERCAST_FAR_EDGE_DEG if name in OVERCAST else FAR_EDGE_DEG
 
 
 def nested_levels(name) -> int:
     return NESTED_LEVELS + (OVERCAST_EXTRA_LEVELS if name in OVERCAST else 0)
+
+
 THICKNESS_VOXELS = 32  # a layer's voxel is at most its thickness / this (smooth decks need no finer)
 PIXELS_PER_VOXEL = 1.5
 MAX_LEVEL_VOXELS = 2.5e8  # evaluated voxels per level bake (memory and time)
@@ -163,8 +179,8 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     seeds at one aspect read as clones ("bread loaves", blind review round 5)."""
     if name not in COMPANIONS:
         return []
-    _, counts, (s_lo, s_hi) = COMPANIONS[name]
-    count = counts[0] if view == "side" else counts[1]
+    _, _, (s_lo, s_hi) = COMPANIONS[name]
+    count = companion_count(name, view)
     mx, my, _ = main_values["box_size"]
     cx, cy, cz = comp_values["box_size"]
     z0, z1 = vertical_extent(comp_values)

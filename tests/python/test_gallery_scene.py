@@ -27,7 +27,7 @@ def test_companions_vary_and_do_not_stack(name, view):
     comp = dict(cn.defaults(), **cn.presets()[gs.COMPANIONS[name][0]]["params"])
     centre, _, pitch, _ = gs.compact_view(name, values, view, 640, 360)
     placed = gs.companions(name, values, comp, centre, view, 640, 360, random.Random(f"{name}-{view}"))
-    assert len(placed) == gs.COMPANIONS[name][1][0 if view == "side" else 1], (name, view, len(placed))
+    assert len(placed) == gs.companion_count(name, view), (name, view, len(placed))
     lo, hi = gs.COMPANIONS[name][2]
     aspects = set()
     for _, _, _, (sx, sy, sz), _ in placed:
@@ -166,14 +166,16 @@ def test_companion_variants_are_valid_distinct_clouds():
     """Each companion variant is a valid parameter set over its preset (names and ranges checked
     by the module), the variants differ from each other, and each still makes a cloud: a
     central cross-section with density > 0 over at least 5 % of its cells."""
-    assert len(gs.COMPANION_VARIANTS) == gs.COMPANION_SEEDS
     assert len({tuple(sorted(v.items())) for v in gs.COMPANION_VARIANTS}) == len(gs.COMPANION_VARIANTS)
     for name in COMPACT:
-        comp = gs.COMPANIONS[name][0]
+        seeds = set()
         for i, variant in enumerate(gs.COMPANION_VARIANTS):
-            values = cn.resolve_params(dict(cn.presets()[comp]["params"], **variant, seed=101 + i))
+            values = cn.resolve_params(gs.companion_values(name, i))
+            assert all(values[k] == pytest.approx(v) for k, v in variant.items()), (name, i, variant)
+            seeds.add(values["seed"])
             cut = cn.slice(values, "y", 0.5, 64, 64)
-            assert (cut > 0).mean() > 0.05, f"{comp} variant {i} {variant}: {(cut > 0).mean():.3f} of the cut non-empty"
+            assert (cut > 0).mean() > 0.05, f"{name} variant {i} {variant}: {(cut > 0).mean():.3f} of the cut non-empty"
+        assert len(seeds) == len(gs.COMPANION_VARIANTS), (name, seeds)
 
 
 @pytest.mark.parametrize("name", COMPACT)
