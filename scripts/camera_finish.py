@@ -20,11 +20,18 @@ Usage: python scripts/camera_finish.py IN.png OUT.jpg [--seed N]
 (the seed defaults to a checksum of IN's file name: each picture its own grain)
 """
 import argparse
+import io
 import os
+import pathlib
 import sys
 import zlib
 
 import numpy as np
+
+_ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path[:0] = [str(_ROOT / "bench"), str(_ROOT / "bench" / "accuracy")]
+from common import atomic_write  # noqa: E402  (bench/common.py: replaced whole or not at all)
+from metrics import srgb_encode  # noqa: E402  (bench/accuracy/metrics.py: clip, then the sRGB curve)
 
 VIGNETTE_CORNER = 0.80  # light at a corner relative to the centre (about -1/3 stop)
 # noise in scene-linear units (display white = 1): sigma^2 = SHOT * L + READ^2. SHOT is set so
@@ -38,14 +45,8 @@ JPEG_QUALITY = 90
 
 
 def srgb_to_linear(v):
-    """Display-encoded values in [0, 1] to linear (the sRGB transfer curve)."""
+    """Display-encoded values in [0, 1] to linear: the inverse of the sRGB curve (srgb_encode)."""
     return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
-
-
-def linear_to_srgb(v):
-    """Linear values (clipped to [0, 1]) to display-encoded ones (the sRGB transfer curve)."""
-    v = np.clip(v, 0.0, 1.0)
-    return np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1.0 / 2.4) - 0.055)
 
 
 def _blur(img, sigma):
@@ -87,14 +88,14 @@ def finish(rgb8, seed):
     own = _correlated_noise(rng, (h, w, 3))
     unit = np.sqrt(1.0 - CHROMA_SHARE ** 2) * shared + CHROMA_SHARE * own
     lin = lin + np.sqrt(SHOT * np.clip(lin, 0.0, None) + READ ** 2) * unit
-    disp = linear_to_srgb(lin)
+    disp = srgb_encode(lin)
     disp = disp + SHARPEN_AMOUNT * (disp - _blur(disp, SHARPEN_SIGMA))
     return (np.clip(disp, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
 
 def finish_file(src, dst, seed=None):
-    """Finish the PNG `src` into the JPEG `dst`, written atomically (a temporary file beside it,
-    then renamed). The grain's seed defaults to a checksum of src's file name: each picture of
+    """Finish the PNG `src` into the JPEG `dst`, written atomically (bench/common.py's
+    atomic_write: the old file or the new one, never a part). The grain's seed defaults to a checksum of src's file name: each picture of
     a gallery its own grain, the same file the same grain."""
     from PIL import Image
 
@@ -103,14 +104,9 @@ def finish_file(src, dst, seed=None):
 
     with Image.open(src) as im:
         rgb8 = np.asarray(im.convert("RGB"))
-    out = Image.fromarray(finish(rgb8, seed))
-    tmp = f"{dst}.part"
-    try:
-        out.save(tmp, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
-        os.replace(tmp, dst)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    jpeg = io.BytesIO()
+    Image.fromarray(finish(rgb8, seed)).save(jpeg, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
+    atomic_write(dst, jpeg.getvalue())
 
 
 def main(argv=None):

@@ -22,7 +22,7 @@ def test_grain_is_a_few_levels_and_keeps_the_mean(level):
     out = cf.finish(_flat(level), seed=5).astype(np.float64)
     centre = out[50:70, 85:115]
     lin_v = 1.0 - (1.0 - cf.VIGNETTE_CORNER) * 0.025  # r^2 <= 0.025 in this window (0.024)
-    expect = 255.0 * cf.linear_to_srgb(cf.srgb_to_linear(level / 255.0) * lin_v)
+    expect = 255.0 * cf.srgb_encode(cf.srgb_to_linear(level / 255.0) * lin_v)
     assert abs(centre.mean() - level) < 1.0 + abs(level - expect), f"level {level}: mean {centre.mean():.2f}"
     assert 0.8 < centre.std() < 4.0, f"level {level}: grain std {centre.std():.2f} levels"
 
@@ -33,6 +33,12 @@ def test_vignette_reaches_the_corner_value():
     lin = cf.srgb_to_linear(out)
     ratio = lin[:6, :6].mean() / lin[115:125, 195:205].mean()
     assert abs(ratio - cf.VIGNETTE_CORNER) < 0.03, f"corner/centre {ratio:.3f}, expected {cf.VIGNETTE_CORNER}"
+
+
+def test_srgb_decode_inverts_the_encode():
+    """srgb_to_linear is the inverse of bench's srgb_encode over [0, 1] (1e-12), both pieces."""
+    v = np.linspace(0.0, 1.0, 1001)
+    assert np.max(np.abs(cf.srgb_encode(cf.srgb_to_linear(v)) - v)) < 1e-12
 
 
 def test_repeatable_per_seed_and_different_between_seeds():
@@ -82,8 +88,11 @@ def test_finish_file_writes_a_jpeg_and_no_partial_file(tmp_path):
 
 
 def test_finish_file_failing_mid_write_keeps_the_old_file(tmp_path, monkeypatch):
-    """A write that fails half-way (here: Pillow's save writes a few bytes, then raises) leaves
-    the JPEG that was there untouched and no partial file beside it."""
+    """A write that fails after the new JPEG's bytes went to disk, before it took the old
+    file's place (here: the rename raises), leaves the JPEG that was there untouched and no
+    partial file beside it."""
+    import os
+
     from PIL import Image
 
     src = tmp_path / "in.png"
@@ -91,12 +100,11 @@ def test_finish_file_failing_mid_write_keeps_the_old_file(tmp_path, monkeypatch)
     dst = tmp_path / "out.jpg"
     dst.write_bytes(b"the old picture")
 
-    def failing_save(self, fp, *args, **kwargs):
-        with open(fp, "wb") as f:
-            f.write(b"\xff\xd8 half a JPEG")
+    def failing_replace(a, b):
+        assert os.path.getsize(a) > 100, "the new JPEG was written before the rename"
         raise OSError("disk full")
 
-    monkeypatch.setattr(Image.Image, "save", failing_save)
+    monkeypatch.setattr(os, "replace", failing_replace)
     with pytest.raises(OSError, match="disk full"):
         cf.finish_file(str(src), str(dst), seed=0)
     assert dst.read_bytes() == b"the old picture"
