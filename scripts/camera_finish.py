@@ -95,8 +95,9 @@ def finish(rgb8, seed):
 
 def finish_file(src, dst, seed=None):
     """Finish the PNG `src` into the JPEG `dst`, written atomically (bench/common.py's
-    atomic_write: the old file or the new one, never a part). The grain's seed defaults to a checksum of src's file name: each picture of
-    a gallery its own grain, the same file the same grain."""
+    atomic_write: the old file or the new one, never a part). The grain's seed defaults to a
+    checksum of src's file name: each picture of a gallery its own grain, the same file the
+    same grain."""
     from PIL import Image
 
     if seed is None:
