@@ -9,18 +9,24 @@ The steps, in a camera's order, each a fixed physical-looking amount (not tuned 
   2. sensor noise: photon shot noise (variance proportional to the light) plus read noise,
      in scene-linear light, mostly shared by the three channels (luminance grain, the chroma
      noise a camera's own noise reduction leaves), correlated over about a pixel as demosaicing
-     leaves it;
+     leaves it; both grow with the ISO (the gain), which the gallery sets from the light of the
+     scene as a camera's auto-ISO would (iso_for_exposure): a grey overcast carries more grain
+     than a sunlit sky (round 14: "the grain strength is almost the same in every frame, which
+     points to one filter");
   3. in-camera sharpening: an unsharp mask on the display-encoded picture;
-  4. JPEG at quality JPEG_QUALITY with 4:2:0 chroma subsampling, as cameras write.
+  4. JPEG at quality JPEG_QUALITY with 4:2:0 chroma subsampling, as cameras write (at 90
+     a reviewer saw "blocky, posterised steps in the blue" of a smooth sky: the step across
+     8-pixel block edges measured 1.20-1.44 times the step inside a block; at 95, 1.07-1.20).
 
 The render itself (the PNG) is kept: measurements (levels, clipping, profiles) are taken on it,
 never on the finished JPEG. The add-on does not apply this; it is the gallery's camera.
 
-Usage: python scripts/camera_finish.py IN.png OUT.jpg [--seed N]
+Usage: python scripts/camera_finish.py IN.png OUT.jpg [--seed N] [--iso ISO]
 (the seed defaults to a checksum of IN's file name: each picture its own grain)
 """
 import argparse
 import io
+import math
 import os
 import pathlib
 import sys
@@ -34,14 +40,18 @@ from common import atomic_write  # noqa: E402  (bench/common.py: replaced whole 
 from metrics import srgb_encode  # noqa: E402  (bench/accuracy/metrics.py: clip, then the sRGB curve)
 
 VIGNETTE_CORNER = 0.80  # light at a corner relative to the centre (about -1/3 stop)
-# noise in scene-linear units (display white = 1): sigma^2 = SHOT * L + READ^2. SHOT is set so
-# that middle grey (L = 0.18, display level 118) carries a grain of about 2 display levels, as
-# a small sensor at ISO 200-400 does
+# noise in scene-linear units (display white = 1) at ISO BASE_ISO: sigma^2 = SHOT * L + READ^2.
+# SHOT is set so that middle grey (L = 0.18, display level 118) carries a grain of about 2
+# display levels, as a small sensor at ISO 200 does. At another ISO the gain scales both: shot
+# variance by ISO / BASE_ISO, read noise (a deviation) by the same factor
+BASE_ISO = 200.0
 SHOT = 2.4e-4
 READ = 1.0e-3
+ISO_RANGE = (100.0, 3200.0)  # what a camera's auto-ISO chooses from
+SUNNY_ISO = 100.0            # in full sun (sunny 16), the ISO at the high sun's exposure
 CHROMA_SHARE = 0.35  # of each channel's noise, the part not shared with the other two
 SHARPEN_AMOUNT, SHARPEN_SIGMA = 0.5, 1.0  # unsharp mask: amount, Gaussian radius (pixels)
-JPEG_QUALITY = 90
+JPEG_QUALITY = 95
 
 
 def srgb_to_linear(v):
@@ -73,11 +83,27 @@ def _correlated_noise(rng, shape):
     return n / 0.375  # each pass keeps sqrt(1/16 + 4/16 + 1/16) of the deviation
 
 
-def finish(rgb8, seed):
+def iso_for_exposure(exposure, sunny_exposure):
+    """The ISO a camera's auto-ISO picks for a frame exposed `exposure` stops (the film
+    exposure the render used) when full sun takes `sunny_exposure`: at a fixed shutter and
+    aperture each stop less light is one stop more gain, from SUNNY_ISO, within ISO_RANGE."""
+    if not (math.isfinite(exposure) and math.isfinite(sunny_exposure)):
+        raise ValueError(f"camera_finish: exposures must be finite, got {exposure}, {sunny_exposure}")
+    iso = SUNNY_ISO * 2.0 ** min(max(exposure - sunny_exposure, -8.0), 8.0)
+    return min(max(iso, ISO_RANGE[0]), ISO_RANGE[1])
+
+
+def _check_iso(iso):
+    if not (isinstance(iso, (int, float)) and math.isfinite(iso) and ISO_RANGE[0] <= iso <= ISO_RANGE[1]):
+        raise ValueError(f"camera_finish: iso must be a number in [{ISO_RANGE[0]:g}, {ISO_RANGE[1]:g}], got {iso!r}")
+
+
+def finish(rgb8, seed, iso=BASE_ISO):
     """The finished picture (uint8, h x w x 3) of a display-encoded uint8 render, before the
-    JPEG step. Deterministic for a seed."""
+    JPEG step, with the grain of `iso` (in ISO_RANGE). Deterministic for a seed."""
     if rgb8.ndim != 3 or rgb8.shape[2] != 3 or rgb8.dtype != np.uint8:
         raise ValueError(f"camera_finish: expected an h x w x 3 uint8 picture, got {rgb8.shape} {rgb8.dtype}")
+    _check_iso(iso)
     h, w, _ = rgb8.shape
     lin = srgb_to_linear(rgb8.astype(np.float64) / 255.0)
     yy, xx = np.mgrid[0:h, 0:w]
@@ -87,26 +113,28 @@ def finish(rgb8, seed):
     shared = _correlated_noise(rng, (h, w))[..., None]
     own = _correlated_noise(rng, (h, w, 3))
     unit = np.sqrt(1.0 - CHROMA_SHARE ** 2) * shared + CHROMA_SHARE * own
-    lin = lin + np.sqrt(SHOT * np.clip(lin, 0.0, None) + READ ** 2) * unit
+    gain = iso / BASE_ISO
+    lin = lin + np.sqrt(gain * SHOT * np.clip(lin, 0.0, None) + (gain * READ) ** 2) * unit
     disp = srgb_encode(lin)
     disp = disp + SHARPEN_AMOUNT * (disp - _blur(disp, SHARPEN_SIGMA))
     return (np.clip(disp, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
 
-def finish_file(src, dst, seed=None):
-    """Finish the PNG `src` into the JPEG `dst`, written atomically (bench/common.py's
-    atomic_write: the old file or the new one, never a part). The grain's seed defaults to a
-    checksum of src's file name: each picture of a gallery its own grain, the same file the
-    same grain."""
+def finish_file(src, dst, seed=None, iso=BASE_ISO):
+    """Finish the PNG `src` into the JPEG `dst` with the grain of `iso`, written atomically
+    (bench/common.py's atomic_write: the old file or the new one, never a part). The grain's
+    seed defaults to a checksum of src's file name: each picture of a gallery its own grain,
+    the same file the same grain."""
     from PIL import Image
 
+    _check_iso(iso)  # before the file is read: a bad ISO names itself, not a decode error
     if seed is None:
         seed = zlib.crc32(os.path.basename(src).encode())
 
     with Image.open(src) as im:
         rgb8 = np.asarray(im.convert("RGB"))
     jpeg = io.BytesIO()
-    Image.fromarray(finish(rgb8, seed)).save(jpeg, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
+    Image.fromarray(finish(rgb8, seed, iso)).save(jpeg, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
     atomic_write(dst, jpeg.getvalue())
 
 
@@ -115,8 +143,13 @@ def main(argv=None):
     ap.add_argument("src")
     ap.add_argument("dst")
     ap.add_argument("--seed", type=int, default=None, help="the grain's seed (default: from IN's file name)")
+    ap.add_argument("--iso", type=float, default=BASE_ISO,
+                    help=f"the grain's ISO, {ISO_RANGE[0]:g}-{ISO_RANGE[1]:g} (default {BASE_ISO:g})")
     args = ap.parse_args(argv)
-    finish_file(args.src, args.dst, args.seed)
+    try:
+        finish_file(args.src, args.dst, args.seed, args.iso)
+    except ValueError as e:
+        ap.error(str(e))
 
 
 if __name__ == "__main__":

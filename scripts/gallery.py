@@ -260,7 +260,10 @@ def shot(name, view, sun, values, baked, out_png, args):
         scene.view_settings.exposure = meter(scene, render_cloud)
         print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
-    return render_cloud.render(scene, out_png)
+    seconds = render_cloud.render(scene, out_png)
+    # the camera's auto-ISO for the finish: the light this frame was exposed for against full sun
+    iso = camera_finish.iso_for_exposure(scene.view_settings.exposure, sl.exposure_for(SUNS["high"][0]))
+    return seconds, iso
 
 
 # Every shot a run may ask for, in a fixed order: a file's number depends only on its type,
@@ -304,12 +307,12 @@ def main(argv=None):
             if name not in baked:
                 baked[name] = bake_all(name, values, work, args)
             png = out / f"{number:02d}.{args.format}"
-            seconds = shot(name, view, sun, values, baked[name], str(png), args)
+            seconds, iso = shot(name, view, sun, values, baked[name], str(png), args)
             key[png.name] = {"type": name, "view": view, "sun": sun, "seconds": round(seconds, 1)}
             if args.format == "png" and not args.no_finish:  # the render as a camera records it
                 jpg = png.with_suffix(".jpg")
-                camera_finish.finish_file(str(png), str(jpg))
-                key[png.name]["finished"] = jpg.name
+                camera_finish.finish_file(str(png), str(jpg), iso=iso)
+                key[png.name].update(finished=jpg.name, iso=round(iso))
             key_path.write_text(json.dumps(key, indent=1, sort_keys=True) + "\n")
             print(f"gallery: {png} {name} {view}-{sun} {seconds:.1f} s", flush=True)
 

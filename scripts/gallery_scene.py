@@ -54,8 +54,12 @@ SIDE_DISTANCE = {"cumulonimbus": 0.8}
 # under it (round 6) its base filled the frame and it read as a cumulus; from 4 km at 30 degrees
 # its base sits low in the frame and its towers rise to the top edge. The cumulonimbus's box is
 # 45 km wide for its anvil: 0.6 of it put the camera 27 km away, looking 10 degrees up; from
-# 16 km at 25 degrees its tower fills the frame and the anvil overhangs the top.
-BELOW_AIM = {"cumulus_congestus": (0.45, 30.0, 0.6), "cumulonimbus": (0.5, 25.0, 0.35)}
+# 16 km at 25 degrees its tower fills the frame and the anvil overhangs the top. The cumulus
+# looked at 55 degrees up showed its flat base as a round dark disc with a beaded rim ("a round
+# disc with a dark grey, blurred centre", round 14: realism 1); at 35 degrees its base is a
+# foreshortened band under a sunlit dome, other cumulus below it toward the horizon.
+BELOW_AIM = {"cumulus": (0.45, 35.0, 0.6), "cumulus_congestus": (0.45, 30.0, 0.6),
+             "cumulonimbus": (0.5, 25.0, 0.35)}
 # below views of low grey layers: pitched this much (degrees; default 50) so that the ground shows:
 # the far hill tops vanish into a stratus's base, the rain under a nimbostratus hides the
 # distance. Looking 50 degrees up, both were a plain grey field and were named as one another

@@ -123,3 +123,35 @@ def test_command_line_seeds_each_file_by_its_name(tmp_path):
     cf.main([str(tmp_path / "a.png"), str(tmp_path / "a2.jpg")])
     assert (tmp_path / "a.jpg").read_bytes() == (tmp_path / "a2.jpg").read_bytes()
     assert (tmp_path / "a.jpg").read_bytes() != (tmp_path / "b.jpg").read_bytes()
+
+
+@pytest.mark.parametrize("iso", [100.0, 800.0, 3200.0])
+def test_grain_grows_with_the_iso(iso):
+    """Mid-grey's grain at `iso` against ISO 200, within 10 %: the gain g = iso / 200 scales the
+    shot variance by g and the read deviation by g, so the deviation by
+    sqrt((g SHOT L + g^2 READ^2) / (SHOT L + READ^2)) (from 0.70 at ISO 100 to 4.6 at 3200)."""
+    base = cf.finish(_flat(118), seed=9).astype(np.float64)[40:80, 70:130].std()
+    got = cf.finish(_flat(118), seed=9, iso=iso).astype(np.float64)[40:80, 70:130].std()
+    g, lin = iso / cf.BASE_ISO, cf.srgb_to_linear(118 / 255.0)
+    expect = base * ((g * cf.SHOT * lin + (g * cf.READ) ** 2) / (cf.SHOT * lin + cf.READ ** 2)) ** 0.5
+    assert abs(got / expect - 1.0) < 0.10, f"iso {iso}: std {got:.2f} levels, expected {expect:.2f}"
+
+
+def test_auto_iso_follows_the_light():
+    """Full sun gives SUNNY_ISO; each stop more exposure one stop more ISO; clamped to ISO_RANGE
+    however dark or bright (no overflow for huge exposures); non-finite exposures are refused."""
+    assert cf.iso_for_exposure(-5.0, -5.0) == cf.SUNNY_ISO
+    assert cf.iso_for_exposure(-2.0, -5.0) == pytest.approx(8 * cf.SUNNY_ISO)
+    assert cf.iso_for_exposure(40.0, -5.0) == cf.ISO_RANGE[1]
+    assert cf.iso_for_exposure(-1e300, 0.0) == cf.ISO_RANGE[0]
+    with pytest.raises(ValueError, match="finite"):
+        cf.iso_for_exposure(float("nan"), 0.0)
+
+
+@pytest.mark.parametrize("iso", [50.0, 6400.0, float("nan"), "400"])
+def test_rejects_an_iso_out_of_range_and_names_it(iso, tmp_path):
+    with pytest.raises(ValueError, match=r"iso must be a number in \[100, 3200\]"):
+        cf.finish(_flat(118), seed=0, iso=iso)
+    with pytest.raises(ValueError, match="iso must be"):
+        cf.finish_file(str(tmp_path / "missing.png"), str(tmp_path / "out.jpg"), iso=iso)
+    assert not (tmp_path / "out.jpg").exists()
