@@ -10,7 +10,7 @@ The steps, in a camera's order, each a fixed physical-looking amount (not tuned 
      in scene-linear light, mostly shared by the three channels (luminance grain, the chroma
      noise a camera's own noise reduction leaves), correlated over about a pixel as demosaicing
      leaves it; both grow with the ISO (the gain), which the gallery sets from the light of the
-     scene as a camera's auto-ISO would (iso_for_exposure): a grey overcast carries more grain
+     scene as a camera's auto-ISO would (iso_for_light): a grey overcast carries more grain
      than a sunlit sky (round 14: "the grain strength is almost the same in every frame, which
      points to one filter");
   3. in-camera sharpening: an unsharp mask on the display-encoded picture;
@@ -48,7 +48,7 @@ BASE_ISO = 200.0
 SHOT = 2.4e-4
 READ = 1.0e-3
 ISO_RANGE = (100.0, 3200.0)  # what a camera's auto-ISO chooses from
-SUNNY_ISO = 100.0            # in full sun (sunny 16), the ISO at the high sun's exposure
+SUNNY_ISO = 100.0            # in full sun (sunny 16)
 CHROMA_SHARE = 0.35  # of each channel's noise, the part not shared with the other two
 SHARPEN_AMOUNT, SHARPEN_SIGMA = 0.5, 1.0  # unsharp mask: amount, Gaussian radius (pixels)
 JPEG_QUALITY = 95
@@ -83,13 +83,13 @@ def _correlated_noise(rng, shape):
     return n / 0.375  # each pass keeps sqrt(1/16 + 4/16 + 1/16) of the deviation
 
 
-def iso_for_exposure(exposure, sunny_exposure):
-    """The ISO a camera's auto-ISO picks for a frame exposed `exposure` stops (the film
-    exposure the render used) when full sun takes `sunny_exposure`: at a fixed shutter and
-    aperture each stop less light is one stop more gain, from SUNNY_ISO, within ISO_RANGE."""
-    if not (math.isfinite(exposure) and math.isfinite(sunny_exposure)):
-        raise ValueError(f"camera_finish: exposures must be finite, got {exposure}, {sunny_exposure}")
-    iso = SUNNY_ISO * 2.0 ** min(max(exposure - sunny_exposure, -8.0), 8.0)
+def iso_for_light(light, sunny_light):
+    """The ISO a camera's auto-ISO picks for a frame whose mean luminance is `light` when a
+    sunlit frame's is `sunny_light` (same units, both > 0): at a fixed shutter and aperture the
+    gain makes up for the light, from SUNNY_ISO in full sun, within ISO_RANGE."""
+    if not (math.isfinite(light) and math.isfinite(sunny_light) and light > 0.0 and sunny_light > 0.0):
+        raise ValueError(f"camera_finish: light and sunny_light must be finite and > 0, got {light}, {sunny_light}")
+    iso = SUNNY_ISO * math.exp(min(max(math.log(sunny_light / light), -20.0), 20.0))
     return min(max(iso, ISO_RANGE[0]), ISO_RANGE[1])
 
 

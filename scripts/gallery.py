@@ -23,7 +23,7 @@ The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
-grey overcasts the camera is balanced and exposed for the overcast's own light (meter()).
+grey overcasts the camera is balanced and exposed for the overcast's own light (frame_luminance()).
 Each PNG render also gets its camera finish, NN.jpg (vignetting, sensor grain, in-camera
 sharpening, JPEG: scripts/camera_finish.py; --no-finish: none); measure on the PNG.
 Files are numbered in a shuffled order (NN.png, no type in the name) so a reviewer sees no
@@ -74,6 +74,11 @@ OVERCAST_BALANCE_K = 5700.0
 # 0.18). Exposed for the hidden sun (sky_light.exposure_for) the nimbostratus with its rain came
 # out at display levels 18-48, near black, its rain streaks invisible (320x180 test)
 OVERCAST_KEY = 0.12
+# the camera's auto-ISO (scripts/camera_finish.py) reads the same meter: its ISO 100 at
+# SUNNY_LIGHT, the median frame luminance of the round-15 gallery's twelve sunlit frames without
+# the sun's glow in them (2.15-4.71; with it, 9.2-43: cirrus and stratocumulus 9, the veils' sun
+# in view 6-43). The overcasts read 0.50 (nimbostratus side-on: ISO 640), 2.5-6.1 (the rest)
+SUNNY_LIGHT = 3.2
 METER_SIZE, METER_SAMPLES = (96, 54), 4
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
@@ -98,16 +103,17 @@ def sun_direction(name, view, sun, compact):
     return elevation, azimuth
 
 
-def meter(scene, render_cloud):
-    """Exposure (stops) that brings the frame's mean scene-linear luminance (Rec.709) to
-    OVERCAST_KEY: a METER_SIZE render at METER_SAMPLES spp, not denoised, to EXR (scene-linear:
-    no view transform). The scene's resolution, samples and output format are restored."""
+def frame_luminance(scene, render_cloud):
+    """The frame's mean scene-linear luminance (Rec.709) at film exposure 0: a METER_SIZE render
+    at METER_SAMPLES spp, not denoised, to EXR (scene-linear: no view transform). The scene's
+    resolution, samples, exposure and output format are restored."""
     import bpy
     import numpy as np
 
     r, c, im = scene.render, scene.cycles, scene.render.image_settings
     saved = (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
-             im.file_format, im.color_depth)
+             im.file_format, im.color_depth, scene.view_settings.exposure)
+    scene.view_settings.exposure = 0.0  # the light itself (EXR is written before the view transform)
     r.resolution_x, r.resolution_y = METER_SIZE
     r.resolution_percentage, c.samples, c.use_denoising = 100, METER_SAMPLES, False
     try:
@@ -120,11 +126,10 @@ def meter(scene, render_cloud):
     finally:
         (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
          im.file_format) = saved[:6]
-        im.color_depth = saved[6]
+        im.color_depth, scene.view_settings.exposure = saved[6:]
     if not np.isfinite(px).all():
         raise RuntimeError("gallery: the meter's render holds NaN or Inf")
-    y = float((px @ np.array([0.2126, 0.7152, 0.0722])).mean())
-    return math.log2(OVERCAST_KEY / max(y, 1e-6))
+    return max(float((px @ np.array([0.2126, 0.7152, 0.0722])).mean()), 1e-6)
 
 
 def parse_args(argv):
@@ -256,14 +261,14 @@ def shot(name, view, sun, values, baked, out_png, args):
         box = rain.rain_box(values, centre, cn.density,
                             half=ls.units(ls.TERRAIN_HALF_KM) if gs.is_layer(values) else None)
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
+    light = frame_luminance(scene, render_cloud)  # what a camera's meter reads: auto-ISO, exposure
     if name in gs.OVERCAST:
-        scene.view_settings.exposure = meter(scene, render_cloud)
+        scene.view_settings.exposure = math.log2(OVERCAST_KEY / light)
         print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
+    iso = camera_finish.iso_for_light(light, SUNNY_LIGHT)
+    print(f"gallery: {name} {view}: frame luminance {light:.4g}, ISO {iso:.0f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")
-    seconds = render_cloud.render(scene, out_png)
-    # the camera's auto-ISO for the finish: the light this frame was exposed for against full sun
-    iso = camera_finish.iso_for_exposure(scene.view_settings.exposure, sl.exposure_for(SUNS["high"][0]))
-    return seconds, iso
+    return render_cloud.render(scene, out_png), iso
 
 
 # Every shot a run may ask for, in a fixed order: a file's number depends only on its type,

@@ -138,14 +138,15 @@ def test_grain_grows_with_the_iso(iso):
 
 
 def test_auto_iso_follows_the_light():
-    """Full sun gives SUNNY_ISO; each stop more exposure one stop more ISO; clamped to ISO_RANGE
-    however dark or bright (no overflow for huge exposures); non-finite exposures are refused."""
-    assert cf.iso_for_exposure(-5.0, -5.0) == cf.SUNNY_ISO
-    assert cf.iso_for_exposure(-2.0, -5.0) == pytest.approx(8 * cf.SUNNY_ISO)
-    assert cf.iso_for_exposure(40.0, -5.0) == cf.ISO_RANGE[1]
-    assert cf.iso_for_exposure(-1e300, 0.0) == cf.ISO_RANGE[0]
-    with pytest.raises(ValueError, match="finite"):
-        cf.iso_for_exposure(float("nan"), 0.0)
+    """Full sun gives SUNNY_ISO; eight times less light eight times the ISO; clamped to ISO_RANGE
+    however dark or bright (no overflow for extreme ratios); no light, or non-finite, is refused."""
+    assert cf.iso_for_light(0.5, 0.5) == cf.SUNNY_ISO
+    assert cf.iso_for_light(0.5 / 8, 0.5) == pytest.approx(8 * cf.SUNNY_ISO)
+    assert cf.iso_for_light(1e-300, 0.5) == cf.ISO_RANGE[1]
+    assert cf.iso_for_light(1e300, 0.5) == cf.ISO_RANGE[0]
+    for bad in (0.0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="finite and > 0"):
+            cf.iso_for_light(bad, 0.5)
 
 
 @pytest.mark.parametrize("iso", [50.0, 6400.0, float("nan"), "400"])
