@@ -7,7 +7,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from . import checks, cloud_object, landscape, operators, sky_light, volume_object
+from . import checks, cloud_object, landscape, operators, sky_light, volume_material, volume_object
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
@@ -144,6 +144,7 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         except RuntimeError as exc:
             self.report({"ERROR"}, f"Cloud Sky & Sun: {exc}")
             return {"CANCELLED"}
+        volume_material.point_halos(scene)
         for line in operators.apply_render_settings(scene):
             self.report({"INFO"}, line)
         self.report({"INFO"}, f"Sky and sun at {self.sun_elevation:.0f}°: {info['view_transform']}, "

@@ -380,7 +380,7 @@ def build_material(name, values: dict, look: dict, obj):
     (volume_material.py). Node names: "Cloud Noise", "Cloud Main" (group nodes),
     "Cloud Volume", "Material Output"."""
     mat = bpy.data.materials.new(name)
-    volume = volume_material.volume_material(mat, look)
+    volume_material.volume_material(mat, look)
     nt = mat.node_tree
     noise = nt.nodes.new("ShaderNodeGroup")
     noise.node_tree = noise_group()
@@ -391,6 +391,6 @@ def build_material(name, values: dict, look: dict, obj):
     set_node_values(noise, values, group_parameters(NOISE_GROUP))
     set_node_values(main, values, group_parameters(MAIN_GROUP))
     nt.links.new(noise.outputs["Noise"], main.inputs[DISTORTION_NOISE])
-    nt.links.new(main.outputs["Density"], volume.inputs["Density"])
+    volume_material.link_density(mat, main.outputs["Density"])
     drive_box_inputs(mat, obj)
     return mat

@@ -50,6 +50,7 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
             self.report({"ERROR"}, f"Add Cloud: {exc}")
             return {"CANCELLED"}
         preview.refresh(context, obj)
+        volume_material.point_halos(context.scene)  # an ice veil's halo toward the scene's sun
         c = context.scene.cycles
         if context.scene.render.engine == "CYCLES" and c.volume_bounces < MIN_CLOUD_BOUNCES:
             was = c.volume_bounces

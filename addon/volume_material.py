@@ -22,7 +22,21 @@ The shader, node "Cloud Volume" → "Material Output".Volume:
   "Density Grid" feeds Density.
 - step rate: the look's "step_rate" (default DEFAULT_STEP_RATE) for a procedural
   material, 1 (the voxel size) for a grid; step_rate= wins.
+- halo: a look with "halo" > 0 (the ice veils' presets) also emits the 22° halo of
+  hexagonal ice crystals, which no phase function of Cycles has (HG, Fournier-Forand, Draine,
+  Rayleigh and Mie all fall monotonically from the forward peak): single scattering of the
+  sun, radiance per unit length = density * E_sun * HALO_PEAK_PER_SR * halo * lobe(theta),
+  theta the angle between the view ray and the sun; lobe 1 at HALO_RADIUS_DEG, falling as a
+  Gaussian of HALO_INNER_DEG inside (the sharp, reddish inner edge) and HALO_OUTER_DEG outside.
+  The sun comes from the nodes "Halo Sun" (direction toward the sun) and "Halo Irradiance"
+  (E_sun, linear RGB), which point_halos(scene) sets from the scene's sun lamp in every
+  material that has them (Add Cloud, Cloud Sky & Sun and Bake call it; so do the scripts);
+  until then the irradiance is 0 and there is no halo. Thin veils only: the sun's light is not
+  attenuated on its way in (a cirrostratus's optical depth is about 0.5).
+  Callers link the density with link_density(), which feeds the halo too.
 """
+import math
+
 import bpy
 
 DEFAULT_COLOR = (1.0, 1.0, 1.0)
@@ -31,6 +45,15 @@ DEFAULT_STEP_RATE = 0.2      # procedural: the presets' default (cirrus types sa
 MIE_DIAMETER_UM = 20.0       # droplet diameter of the Mie phase, micrometres (cumulus droplets)
 VOLUME_NODE = "Cloud Volume"
 GRID_NODE = "Density Grid"
+HALO_SUN, HALO_IRRADIANCE, HALO_DENSITY = "Halo Sun", "Halo Irradiance", "Halo Density"
+HALO_RADIUS_DEG = 22.0   # the minimum deviation of light through a 60° ice prism
+HALO_INNER_DEG = 0.7     # inside: a sharp edge (no light is deviated by less than the minimum)
+HALO_OUTER_DEG = 4.0     # outside: fades over a few degrees
+# the halo's phase function at the ring, 1/sr, over the veil's own: chosen on renders of the
+# cirrostratus from below (320x180): at 0.5 (about HG(g 0.75)'s own 0.49/sr at 22°) the ring
+# was as bright as a sunlit white surface and burnt out; at 0.15 it is a clear, thin ring that
+# adds about 10 display levels beside the sun's glow, as a bright halo in a thin veil looks
+HALO_PEAK_PER_SR = 0.15
 
 
 def mie_available() -> bool:
@@ -90,8 +113,112 @@ def volume_material(mat, look: dict, grid=None, phase="AUTO", like=None, step_ra
             attr.name = GRID_NODE
             attr.location = (-150, 0)
             nt.links.new(attr.outputs["Fac"], volume.inputs["Density"])
+    if float(look.get("halo", 0.0)) > 0.0:
+        _add_halo(nt, volume, out, float(look["halo"]), grid)
     if step_rate is None:
         step_rate = 1.0 if grid is not None else procedural_step_rate(look)
     if hasattr(mat, "cycles") and hasattr(mat.cycles, "volume_step_rate"):  # Blender 5: none
         mat.cycles.volume_step_rate = float(step_rate)
     return volume
+
+
+def link_density(mat, socket):
+    """Link `socket` (a procedural density) into the cloud volume's Density, and the halo's."""
+    nt = mat.node_tree
+    nt.links.new(socket, nt.nodes[VOLUME_NODE].inputs["Density"])
+    if HALO_DENSITY in nt.nodes:
+        nt.links.new(socket, nt.nodes[HALO_DENSITY].inputs[0])
+
+
+def _math(nt, operation, a, b=None, x=0):
+    """A Math node: a and b are sockets or numbers; returns its output socket."""
+    node = nt.nodes.new("ShaderNodeMath")
+    node.operation = operation
+    node.location = (x, -400)
+    for i, v in enumerate((a, b)):
+        if v is None:
+            continue
+        if isinstance(v, (int, float)):
+            node.inputs[i].default_value = float(v)
+        else:
+            nt.links.new(v, node.inputs[i])
+    return node.outputs[0]
+
+
+def _add_halo(nt, volume, out, strength, grid):
+    """The halo's emission beside `volume` (see the module's docstring), added into `out`."""
+    sun = nt.nodes.new("ShaderNodeCombineXYZ")
+    sun.name = sun.label = HALO_SUN
+    sun.inputs["Z"].default_value = 1.0
+    irradiance = nt.nodes.new("ShaderNodeRGB")
+    irradiance.name = irradiance.label = HALO_IRRADIANCE
+    irradiance.outputs[0].default_value = (0.0, 0.0, 0.0, 1.0)
+    density = nt.nodes.new("ShaderNodeMath")  # density (input 0) x mask (input 1, a ring's)
+    density.name = density.label = HALO_DENSITY
+    density.operation = "MULTIPLY"
+    density.inputs[1].default_value = 1.0
+    if grid is not None:
+        attr = nt.nodes.new("ShaderNodeAttribute")
+        attr.attribute_name = grid
+        nt.links.new(attr.outputs["Fac"], density.inputs[0])
+    geometry = nt.nodes.new("ShaderNodeNewGeometry")
+    dot = nt.nodes.new("ShaderNodeVectorMath")
+    dot.operation = "DOT_PRODUCT"
+    nt.links.new(geometry.outputs["Incoming"], dot.inputs[0])  # Incoming points back to the viewer
+    nt.links.new(sun.outputs[0], dot.inputs[1])
+    cos_theta = _math(nt, "MULTIPLY", dot.outputs["Value"], -1.0)  # the view ray against the sun
+    theta = _math(nt, "ARCCOSINE", _math(nt, "MAXIMUM", _math(nt, "MINIMUM", cos_theta, 1.0), -1.0))
+    d = _math(nt, "SUBTRACT", theta, math.radians(HALO_RADIUS_DEG))
+    inside = _math(nt, "LESS_THAN", d, 0.0)
+    width = _math(nt, "MULTIPLY_ADD", inside, math.radians(HALO_INNER_DEG - HALO_OUTER_DEG))
+    width.node.inputs[2].default_value = math.radians(HALO_OUTER_DEG)
+    u = _math(nt, "DIVIDE", d, width)
+    lobe = _math(nt, "EXPONENT", _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", u, u), -1.0))
+    power = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", lobe, density.outputs[0]), HALO_PEAK_PER_SR * strength)
+    emission = nt.nodes.new("ShaderNodeEmission")
+    emission.name = emission.label = "Halo"
+    nt.links.new(irradiance.outputs[0], emission.inputs["Color"])
+    nt.links.new(power, emission.inputs["Strength"])
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(volume.outputs["Volume"], add.inputs[0])
+    nt.links.new(emission.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Volume"])
+    for node, at in ((emission, (100, -250)), (add, (250, -100)), (sun, (-600, -250)), (irradiance, (-150, -250))):
+        node.location = at
+
+
+def set_halo_sun(mat, direction, irradiance) -> bool:
+    """Point mat's halo at the sun: `direction` toward the sun (normalised here), `irradiance`
+    its linear RGB irradiance. Returns whether mat has a halo."""
+    nt = mat.node_tree if mat.use_nodes else None
+    if nt is None or HALO_SUN not in nt.nodes:
+        return False
+    n = math.sqrt(sum(c * c for c in direction)) or 1.0
+    for axis, c in zip("XYZ", direction):
+        nt.nodes[HALO_SUN].inputs[axis].default_value = c / n
+    nt.nodes[HALO_IRRADIANCE].outputs[0].default_value = tuple(float(c) for c in irradiance)[:3] + (1.0,)
+    return True
+
+
+def scene_sun(scene):
+    """The scene's first Sun lamp that renders (the add-on's own or the artist's), or None."""
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
+            return obj
+    return None
+
+
+def point_halos(scene) -> int:
+    """Point every material's halo at the scene's sun (scene_sun): its +Z axis (a sun lamp
+    shines along -Z), its colour times its strength (W/m²). Without a sun the halos go dark.
+    Returns how many materials have a halo."""
+    from mathutils import Matrix, Vector
+
+    sun = scene_sun(scene)
+    if sun is None:
+        direction, rgb = (0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
+    else:  # matrix_basis: current even before the depsgraph updated matrix_world
+        world = (sun.parent.matrix_world if sun.parent else Matrix()) @ sun.matrix_basis
+        direction = tuple(world.to_3x3() @ Vector((0.0, 0.0, 1.0)))
+        rgb = tuple(sun.data.energy * c for c in sun.data.color)
+    return sum(set_halo_sun(mat, direction, rgb) for mat in bpy.data.materials)

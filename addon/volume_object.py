@@ -43,6 +43,7 @@ def baked_material(cloud):
             source = m.node_tree.nodes[volume_material.VOLUME_NODE]
             break
     volume_material.volume_material(mat, look, grid="density", like=source, phase="HG")
+    volume_material.point_halos(bpy.context.scene)
     return mat
 
 

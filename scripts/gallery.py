@@ -248,6 +248,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         sl.daylight(scene, elevation, 0.0)
     else:
         sl.daylight(scene, *sun_direction(name, view, sun, compact="main" in baked))
+    render_cloud._addon_file("volume_material").point_halos(scene)  # the ice veils' 22° halo
     sun_seen = view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE  # its light, its balance
     if name in gs.OVERCAST and not sun_seen and hasattr(scene.view_settings, "use_white_balance"):
         scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K

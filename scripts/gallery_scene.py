@@ -336,7 +336,8 @@ def haze_top(name) -> float:
 
 def ring_mask(mat, inner: float, outer):
     """Multiply the density of mat's cloud volume by 1 where inner <= max(|x|, |y|) < outer
-    in object coordinates, 0 elsewhere (outer None: no outer limit)."""
+    in object coordinates, 0 elsewhere (outer None: no outer limit); its halo's density too
+    (addon/volume_material.py's "Halo Density": the mask goes into its second factor)."""
     nt = mat.node_tree
     volume = nt.nodes["Cloud Volume"]
     coords = nt.nodes.new("ShaderNodeTexCoord")
@@ -376,6 +377,8 @@ def ring_mask(mat, inner: float, outer):
         nt.links.new(mul.outputs[0], density)
     else:  # Principled Volume: Density multiplies the Density Attribute
         nt.links.new(keep.outputs[0], density)
+    if "Halo Density" in nt.nodes:
+        nt.links.new(keep.outputs[0], nt.nodes["Halo Density"].inputs[1])
 
 
 def add_vdb(scene, path, mat, location, scale=1.0, rot_z=0.0, name="Cloud"):

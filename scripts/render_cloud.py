@@ -171,15 +171,14 @@ def build_scene(values, args):
                                                        step_rate=step)
         cloud = vdb_object(vdb, cloud, mat)
     else:
-        volume = _addon_file("volume_material").volume_material(mat, material, phase=phase,
-                                                                step_rate=material["step_rate"])
+        _addon_file("volume_material").volume_material(mat, material, phase=phase, step_rate=material["step_rate"])
         nt = mat.node_tree
         coords = nt.nodes.new("ShaderNodeTexCoord")
         defines = {"CG_NO_EARLY_EXIT": 1} if getattr(args, "no_early_exit", False) else None
         with _addon_file("osl_temp").private_tempdir():  # Cycles' compiles leave .oso files otherwise
             main, _ = blender_nodes.cloud_density_nodes(nt, values, coords.outputs["Generated"],
                                                         defines=defines)
-        nt.links.new(main.outputs["Density"], volume.inputs["Density"])
+        _addon_file("volume_material").link_density(mat, main.outputs["Density"])
         cloud.data.materials.append(mat)
 
     cam_data = bpy.data.cameras.new("Camera")
@@ -197,6 +196,7 @@ def build_scene(values, args):
 
     if sky:
         _addon_file("sky_light").daylight(scene, args.sun_elevation, args.sun_rotation)
+        _addon_file("volume_material").point_halos(scene)
         return scene
     sun_data = bpy.data.lights.new("Sun", "SUN")
     sun_data.energy = 6.0

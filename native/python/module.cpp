@@ -321,7 +321,7 @@ PyMethodDef kMethods[] = {
     {"presets", py_presets, METH_NOARGS,
      "presets()\n--\n\n"
      "The cloud types: dict name -> {'description': str, 'params': {name: value},\n"
-     "'material': {'anisotropy': float, 'color': [r, g, b], 'step_rate': float}}\n"
+     "'material': {'anisotropy': float, 'color': [r, g, b], 'step_rate': float, 'halo': float}}\n"
      "(material keys are optional suggestions for the volume shader)."},
     {"defaults", py_defaults, METH_NOARGS,
      "defaults()\n--\n\n"

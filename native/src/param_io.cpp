@@ -67,6 +67,7 @@ constexpr MaterialDecl kMaterial[] = {
     {"anisotropy", 1, -1.0, 1.0},
     {"color", 3, 0.0, 1.0},
     {"step_rate", 1, 0.01, 100.0},
+    {"halo", 1, 0.0, 10.0},  // the 22-degree ice halo's strength, 1 = addon/volume_material.py's HALO_PEAK_PER_SR
 };
 
 std::string shortest(double v) {

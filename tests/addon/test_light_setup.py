@@ -120,3 +120,37 @@ def test_no_light_no_sky(addon, scene, cloud):
         obj.hide_render = True
     found = addon.light_setup.dark_settings(scene)
     assert any("No light and no sky" in text for text, _ in found), found
+
+
+def test_cirrostratus_halo_follows_the_sun(addon, scene):
+    """Add Cloud → cirrostratus in a scene with the artist's own sun lamp: its halo points at
+    that sun (direction within 1e-6, irradiance = strength × colour); Cloud Sky & Sun then
+    points it at its own sun; a cumulus gets no halo nodes."""
+    import bpy
+
+    vm = addon.volume_material
+    own = bpy.data.objects.new("Artist Sun", bpy.data.lights.new("Artist Sun", "SUN"))
+    scene.collection.objects.link(own)
+    own.rotation_euler = (math.radians(50.0), 0.0, math.radians(-20.0))
+    own.data.energy, own.data.color = 3.0, (1.0, 0.95, 0.9)
+    assert bpy.ops.cloudgen.add_cloud(cloud_type="cirrostratus") == {"FINISHED"}
+    nodes = bpy.context.view_layer.objects.active.active_material.node_tree.nodes
+    assert bpy.ops.cloudgen.add_cloud(cloud_type="cumulus") == {"FINISHED"}
+    assert vm.HALO_SUN not in bpy.context.view_layer.objects.active.active_material.node_tree.nodes
+
+    def halo():
+        return ([nodes[vm.HALO_SUN].inputs[a].default_value for a in "XYZ"],
+                list(nodes[vm.HALO_IRRADIANCE].outputs[0].default_value)[:3])
+
+    direction, rgb = halo()
+    want = own.rotation_euler.to_matrix().col[2]
+    assert max(abs(a - b) for a, b in zip(direction, want)) < 1e-6, (direction, tuple(want))
+    assert rgb == pytest.approx([3.0, 2.85, 2.7])
+    own.hide_render = True  # Sky & Sun's own sun takes over
+    _camera(scene, 0.0)
+    assert bpy.ops.cloudgen.sky_setup(sun_elevation=30.0, sun_azimuth=90.0) == {"FINISHED"}
+    sun = bpy.data.objects[addon.sky_light.SUN_LAMP]
+    direction, rgb = halo()
+    want = sun.rotation_euler.to_matrix().col[2]
+    assert max(abs(a - b) for a, b in zip(direction, want)) < 1e-6, (direction, tuple(want))
+    assert rgb == pytest.approx([sun.data.energy * c for c in sun.data.color])

@@ -18,7 +18,7 @@ from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/
 
 TYPES = ["cumulus", "cumulus_congestus", "cumulonimbus", "stratocumulus", "stratus", "nimbostratus",
          "altocumulus", "altostratus", "cirrocumulus", "cirrus", "cirrostratus"]
-MATERIAL_KEYS = {"anisotropy", "color", "step_rate"}
+MATERIAL_KEYS = {"anisotropy", "color", "step_rate", "halo"}
 SKY_DIFF = 0.05     # a pixel "shows cloud" when a channel differs from the sky by more than this
 MIN_CLOUD = 0.03    # ... and at least this fraction of the pixels must
 

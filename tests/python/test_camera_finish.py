@@ -156,3 +156,15 @@ def test_rejects_an_iso_out_of_range_and_names_it(iso, tmp_path):
     with pytest.raises(ValueError, match="iso must be"):
         cf.finish_file(str(tmp_path / "missing.png"), str(tmp_path / "out.jpg"), iso=iso)
     assert not (tmp_path / "out.jpg").exists()
+
+
+def test_colour_noise_is_a_small_part_of_the_grain():
+    """At ISO 1600 on mid-grey (grain well above the 8-bit step), the colour noise std(R - G)
+    against the luminance grain std((R + G + B) / 3) is c sqrt(2) / sqrt(1 - c^2 + c^2 / 3)
+    for c = CHROMA_SHARE (0.29 at 0.2), within 15 %."""
+    out = cf.finish(_flat(118), seed=4, iso=1600.0).astype(np.float64)[30:90, 50:150]
+    colour = (out[..., 0] - out[..., 1]).std()
+    grain = out.mean(axis=2).std()
+    c = cf.CHROMA_SHARE
+    expect = c * 2 ** 0.5 / (1.0 - c * c + c * c / 3.0) ** 0.5
+    assert abs(colour / grain / expect - 1.0) < 0.15, f"colour/grain {colour / grain:.3f}, expected {expect:.3f}"
