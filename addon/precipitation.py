@@ -24,6 +24,7 @@ Scattering grey (RAIN_ALBEDO), forward (RAIN_ANISOTROPY: drops are large). The m
 rate puts Cycles' steps a third of a streak apart (a procedural volume is stepped at a tenth of
 its box's mean size times the rate; a rain box is wide and low, so that step is far too long).
 """
+import importlib
 import importlib.util
 import pathlib
 import sys
@@ -32,15 +33,22 @@ import bmesh
 import bpy
 import numpy as np
 
-try:  # in the add-on package
-    from . import landscape
-except ImportError:  # loaded by its path (scripts/render_cloud.py _addon_file): the sibling file, once
-    _KEY = "cloudgen_addon_landscape"
-    if _KEY not in sys.modules:
-        _spec = importlib.util.spec_from_file_location(_KEY, pathlib.Path(__file__).with_name("landscape.py"))
-        sys.modules[_KEY] = importlib.util.module_from_spec(_spec)
-        _spec.loader.exec_module(sys.modules[_KEY])
-    landscape = sys.modules[_KEY]
+
+def _sibling(name):
+    """The add-on's module `name`: from the package, or (loaded by its path, as
+    scripts/render_cloud.py's _addon_file does) the sibling file, once, under the same key."""
+    if __package__:
+        return importlib.import_module(f"{__package__}.{name}")
+    key = f"cloudgen_addon_{name}"
+    if key not in sys.modules:
+        spec = importlib.util.spec_from_file_location(key, pathlib.Path(__file__).with_name(f"{name}.py"))
+        sys.modules[key] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[key])
+    return sys.modules[key]
+
+
+landscape = _sibling("landscape")
+_math = _sibling("volume_material").math_node
 
 units = landscape.units
 RAIN = "Cloud Rain"
@@ -110,19 +118,6 @@ def step_rate(half_x: float, half_y: float, height: float) -> float:
     of these half-widths and height (scene units)."""
     mean = (2 * half_x + 2 * half_y + height) / 3.0
     return min(1.0, max(1e-4, units(STREAK_KM) / 3.0 / (0.1 * mean)))
-
-
-def _math(nt, op, a=None, b=None):
-    node = nt.nodes.new("ShaderNodeMath")
-    node.operation = op
-    for i, v in enumerate((a, b)):
-        if v is None:
-            continue
-        if isinstance(v, (int, float)):
-            node.inputs[i].default_value = float(v)
-        else:
-            nt.links.new(v, node.inputs[i])
-    return node.outputs[0]
 
 
 def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi):

@@ -130,18 +130,16 @@ def link_density(mat, socket):
         nt.links.new(socket, nt.nodes[HALO_DENSITY].inputs[0])
 
 
-def _math(nt, operation, a, b=None, x=0):
-    """A Math node: a and b are sockets or numbers; returns its output socket."""
+def math_node(nt, operation, *inputs):
+    """A Math node of `operation` in nt fed by `inputs` in order (each a socket, linked, or a
+    number, set); returns its output socket."""
     node = nt.nodes.new("ShaderNodeMath")
     node.operation = operation
-    node.location = (x, -400)
-    for i, v in enumerate((a, b)):
-        if v is None:
-            continue
-        if isinstance(v, (int, float)):
-            node.inputs[i].default_value = float(v)
+    for socket, value in zip(node.inputs, inputs):
+        if isinstance(value, (int, float)):
+            socket.default_value = float(value)
         else:
-            nt.links.new(v, node.inputs[i])
+            nt.links.new(value, socket)
     return node.outputs[0]
 
 
@@ -166,15 +164,15 @@ def _add_halo(nt, volume, out, strength, grid):
     dot.operation = "DOT_PRODUCT"
     nt.links.new(geometry.outputs["Incoming"], dot.inputs[0])  # Incoming points back to the viewer
     nt.links.new(sun.outputs[0], dot.inputs[1])
-    cos_theta = _math(nt, "MULTIPLY", dot.outputs["Value"], -1.0)  # the view ray against the sun
-    theta = _math(nt, "ARCCOSINE", _math(nt, "MAXIMUM", _math(nt, "MINIMUM", cos_theta, 1.0), -1.0))
-    d = _math(nt, "SUBTRACT", theta, math.radians(HALO_RADIUS_DEG))
-    inside = _math(nt, "LESS_THAN", d, 0.0)
-    width = _math(nt, "MULTIPLY_ADD", inside, math.radians(HALO_INNER_DEG - HALO_OUTER_DEG))
-    width.node.inputs[2].default_value = math.radians(HALO_OUTER_DEG)
-    u = _math(nt, "DIVIDE", d, width)
-    lobe = _math(nt, "EXPONENT", _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", u, u), -1.0))
-    power = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", lobe, density.outputs[0]), HALO_PEAK_PER_SR * strength)
+    cos_theta = math_node(nt, "MULTIPLY", dot.outputs["Value"], -1.0)  # the view ray against the sun
+    theta = math_node(nt, "ARCCOSINE", math_node(nt, "MAXIMUM", math_node(nt, "MINIMUM", cos_theta, 1.0), -1.0))
+    d = math_node(nt, "SUBTRACT", theta, math.radians(HALO_RADIUS_DEG))
+    inside = math_node(nt, "LESS_THAN", d, 0.0)
+    width = math_node(nt, "MULTIPLY_ADD", inside, math.radians(HALO_INNER_DEG - HALO_OUTER_DEG),
+                      math.radians(HALO_OUTER_DEG))
+    u = math_node(nt, "DIVIDE", d, width)
+    lobe = math_node(nt, "EXPONENT", math_node(nt, "MULTIPLY", math_node(nt, "MULTIPLY", u, u), -1.0))
+    power = math_node(nt, "MULTIPLY", math_node(nt, "MULTIPLY", lobe, density.outputs[0]), HALO_PEAK_PER_SR * strength)
     emission = nt.nodes.new("ShaderNodeEmission")
     emission.name = emission.label = "Halo"
     nt.links.new(irradiance.outputs[0], emission.inputs["Color"])
