@@ -11,8 +11,7 @@ by its path.
 The shader, node "Cloud Volume" → "Material Output".Volume:
 - phase "AUTO": Volume Scatter with the Mie phase where Cycles has it (4.3+:
   cloud droplets, MIE_DIAMETER_UM), else Principled Volume (Henyey–Greenstein
-  with the look's anisotropy); ice veils (is_ice_veil: a look with a halo) always
-  Henyey–Greenstein; phase "HG": always Principled Volume.
+  with the look's anisotropy); phase "HG": always Principled Volume.
 - like: an existing volume node (the cloud's own "Cloud Volume") whose type,
   phase and unlinked input values are copied — a baked cloud looks as the
   procedural one, edits included.
@@ -57,15 +56,6 @@ HALO_OUTER_DEG = 4.0     # outside: fades over a few degrees
 HALO_PEAK_PER_SR = 0.15
 
 
-def is_ice_veil(look: dict) -> bool:
-    """An ice veil's look (one with a halo): scatters with Henyey-Greenstein, not with the Mie
-    phase of water droplets. The Mie glow of 20 µm droplets filled the halo's inside with
-    light, and two blind reviewers (round 16) read the ring as the edge of "a hard-edged
-    disc"; with HG (g 0.75) the inside is darker than the ring, as under a real halo (Debian's
-    Blender 3.4, which has no Mie: the ring 240, inside it 216-218 display levels)."""
-    return float(look.get("halo", 0.0)) > 0.0
-
-
 def mie_available() -> bool:
     """Cycles' Volume Scatter has the Mie phase (Blender 4.3+)."""
     rna = bpy.types.ShaderNodeVolumeScatter.bl_rna.properties
@@ -82,7 +72,7 @@ def _new_shader(nt, look, phase, like):
                     and sock.name in node.inputs:
                 node.inputs[sock.name].default_value = sock.default_value
         return node
-    if phase == "AUTO" and mie_available() and not is_ice_veil(look):
+    if phase == "AUTO" and mie_available():
         node = nt.nodes.new("ShaderNodeVolumeScatter")
         node.phase = "MIE"
         node.inputs["Diameter"].default_value = MIE_DIAMETER_UM

@@ -41,7 +41,7 @@ def test_add_cloud_renders_and_previews(addon, scene, cloud_type, tmp_path):
     vol = obj.active_material.node_tree.nodes["Cloud Volume"]
     look = cn.presets()[cloud_type].get("material", {})
     assert tuple(vol.inputs["Color"].default_value)[:3] == pytest.approx(tuple(look.get("color", (1, 1, 1))))
-    if addon.volume_material.mie_available() and not addon.volume_material.is_ice_veil(look):
+    if addon.volume_material.mie_available():
         assert vol.bl_idname == "ShaderNodeVolumeScatter" and vol.phase == "MIE"
     else:
         assert vol.inputs["Anisotropy"].default_value == pytest.approx(look.get("anisotropy", 0.3))

@@ -140,20 +140,3 @@ def test_ring_mask_masks_the_halo_too(empty_scene):
     halo_density = mat.node_tree.nodes[vm.HALO_DENSITY]
     assert halo_density.inputs[1].is_linked
     assert halo_density.inputs[0].is_linked  # the grid
-
-
-def test_ice_veils_scatter_with_henyey_greenstein(empty_scene):
-    """A look with a halo gets the Principled Volume (Henyey-Greenstein, the look's anisotropy)
-    even where Cycles has the Mie phase: the droplets' Mie glow filled the ring's inside.
-    A look without one keeps Mie where Cycles has it."""
-    import bpy
-
-    vm = _volume_material()
-    ice = vm.volume_material(bpy.data.materials.new("Ice"), {"anisotropy": 0.75, "halo": 1.0})
-    assert ice.bl_idname == "ShaderNodeVolumePrincipled"
-    assert ice.inputs["Anisotropy"].default_value == pytest.approx(0.75)
-    water = vm.volume_material(bpy.data.materials.new("Water"), {"anisotropy": 0.5})
-    if vm.mie_available():
-        assert water.bl_idname == "ShaderNodeVolumeScatter" and water.phase == "MIE"
-    else:
-        assert water.bl_idname == "ShaderNodeVolumePrincipled"
