@@ -155,8 +155,8 @@ def _add_halo(nt, volume, out, strength, grid):
     density.name = density.label = HALO_DENSITY
     density.operation = "MULTIPLY"
     density.inputs[1].default_value = 1.0
-    if grid is not None:
-        attr = nt.nodes.new("ShaderNodeAttribute")
+    if grid is not None:  # the grid's Attribute node: the Volume Scatter's own, else a new one
+        attr = nt.nodes.get(GRID_NODE) or nt.nodes.new("ShaderNodeAttribute")
         attr.attribute_name = grid
         nt.links.new(attr.outputs["Fac"], density.inputs[0])
     geometry = nt.nodes.new("ShaderNodeNewGeometry")

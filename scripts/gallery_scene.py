@@ -334,12 +334,19 @@ def haze_top(name) -> float:
 # ------------------------------------------------------------------ Blender objects ---
 
 
+def _volume_material():
+    """addon/volume_material.py (bpy), whose node names the masks use."""
+    import render_cloud
+
+    return render_cloud._addon_file("volume_material")
+
+
 def ring_mask(mat, inner: float, outer):
     """Multiply the density of mat's cloud volume by 1 where inner <= max(|x|, |y|) < outer
     in object coordinates, 0 elsewhere (outer None: no outer limit); its halo's density too
-    (addon/volume_material.py's "Halo Density": the mask goes into its second factor)."""
+    (addon/volume_material.py's HALO_DENSITY: the mask goes into its second factor)."""
     nt = mat.node_tree
-    volume = nt.nodes["Cloud Volume"]
+    volume = nt.nodes[_volume_material().VOLUME_NODE]
     coords = nt.nodes.new("ShaderNodeTexCoord")
     sep = nt.nodes.new("ShaderNodeSeparateXYZ")
     nt.links.new(coords.outputs["Object"], sep.inputs[0])
@@ -377,8 +384,9 @@ def ring_mask(mat, inner: float, outer):
         nt.links.new(mul.outputs[0], density)
     else:  # Principled Volume: Density multiplies the Density Attribute
         nt.links.new(keep.outputs[0], density)
-    if "Halo Density" in nt.nodes:
-        nt.links.new(keep.outputs[0], nt.nodes["Halo Density"].inputs[1])
+    halo = _volume_material().HALO_DENSITY
+    if halo in nt.nodes:
+        nt.links.new(keep.outputs[0], nt.nodes[halo].inputs[1])
 
 
 def add_vdb(scene, path, mat, location, scale=1.0, rot_z=0.0, name="Cloud"):

@@ -139,3 +139,7 @@ def test_ring_mask_masks_the_halo_too(empty_scene):
     halo_density = mat.node_tree.nodes[vm.HALO_DENSITY]
     assert halo_density.inputs[1].is_linked
     assert halo_density.inputs[0].is_linked  # the grid
+    # one node reads the grid: a Volume Scatter's own, shared with the halo (a Principled Volume
+    # reads it through its Density Attribute, and the node is the halo's)
+    grids = [n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeAttribute"]
+    assert len(grids) == 1 and grids[0].attribute_name == "density", [(n.name, n.attribute_name) for n in grids]
