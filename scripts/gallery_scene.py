@@ -301,16 +301,22 @@ def layer_levels(name, values, width):
 # thin in voxels: through fewer than THIN_LAYER_VOXELS voxels the noise's edges are sharper than
 # a voxel in z and a point sample aliases them (the cirrocumulus's innermost level: RMS error
 # against the cells' means 0.26 point-sampled, 0.07 box-filtered, tests/native/test_supersample.cpp).
-# Thinner than a voxel, every sub-sample of a cell would miss the layer: point samples there.
+# Thinner than a voxel (the veils' outer levels), a point sample made the layer a whole voxel thick:
+# the cirrostratus's outer rings came out 1.9x and 7.4x too dense at 0.8 and 3.2-unit voxels, and
+# side-on the veil brightened in steps at the rings' seams. The box filter samples only the cell's
+# part inside the box (src/grid.cpp), 3 per axis there: +8 % in the column (2: +15 %).
 THIN_LAYER_VOXELS = 8
 LEVEL_SUPERSAMPLE = 2
+SUB_VOXEL_SUPERSAMPLE = 3
 
 
 def level_supersample(level_values, resolution) -> int:
     """Samples per voxel axis for one level bake of a layer (1 = the voxel's centre)."""
     b = level_values["box_size"]
     z_voxels = b[2] * resolution / max(b)
-    return LEVEL_SUPERSAMPLE if 1.0 <= z_voxels < THIN_LAYER_VOXELS else 1
+    if z_voxels < 1.0:
+        return SUB_VOXEL_SUPERSAMPLE
+    return LEVEL_SUPERSAMPLE if z_voxels < THIN_LAYER_VOXELS else 1
 
 
 def layer_view(name, values, view, width, height):

@@ -62,6 +62,28 @@ float tile_bound(const Model& m, const GridSpec& g, const TileRange& r, float re
 // centres of a k-cell split of [-1/2, 1/2].
 float sub_offset(int s, int k) { return (float(s) + 0.5f) / float(k) - 0.5f; }
 
+// The part of a voxel's cell inside the model's box, per axis: clipped where the cell
+// overhangs the box, [lo, lo + span] then; share is the part's volume over the cell's.
+struct CellPart {
+  bool clipped[3];
+  float lo[3], span[3];
+  float share;
+};
+
+CellPart cell_part(const Model& m, float voxel, const vec3& c) {
+  CellPart p{};
+  p.share = 1.0f;
+  for (int a = 0; a < 3; ++a) {
+    const float half = 0.5f * m.box[a];
+    const float lo = c[a] - 0.5f * voxel, hi = c[a] + 0.5f * voxel;
+    p.clipped[a] = lo < -half || hi > half;
+    p.lo[a] = std::max(lo, -half);
+    p.span[a] = std::max(std::min(hi, half) - p.lo[a], 0.0f);
+    if (p.clipped[a]) p.share *= p.span[a] / voxel;
+  }
+  return p;
+}
+
 // How far a voxel's farthest sub-sample lies from its centre along an axis (scene units).
 float sample_reach(const BakeOptions& o, float voxel) {
   const int k = o.samples_per_axis();
@@ -175,18 +197,30 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     if (k == 1) {
       density_block(m, centres.data(), count, lod, values.data());
     } else {
+      // A voxel that overhangs the box (the density is 0 outside it) is sampled over its
+      // part inside the box and weighted by that part's share of the cell: the same mean,
+      // but a layer thinner than a voxel keeps its column's density instead of falling
+      // between the sub-samples (or, point-sampled, becoming a voxel thick).
+      std::array<CellPart, kTileVoxels> parts;
+      for (std::size_t q = 0; q < count; ++q) parts[q] = cell_part(m, g.voxel, centres[q]);
       std::fill(values.begin(), values.begin() + count, 0.0f);
       for (int sz = 0; sz < k; ++sz)
         for (int sy = 0; sy < k; ++sy)
           for (int sx = 0; sx < k; ++sx) {
-            const vec3 d{sub_offset(sx, k) * g.voxel, sub_offset(sy, k) * g.voxel, sub_offset(sz, k) * g.voxel};
+            const int s[3] = {sx, sy, sz};
             for (std::size_t q = 0; q < count; ++q)
-              points[q] = {centres[q][0] + d[0], centres[q][1] + d[1], centres[q][2] + d[2]};
+              for (int a = 0; a < 3; ++a)
+                points[q][a] = parts[q].clipped[a]
+                                   ? parts[q].lo[a] + (float(s[a]) + 0.5f) / float(k) * parts[q].span[a]
+                                   : centres[q][a] + sub_offset(s[a], k) * g.voxel;
             density_block(m, points.data(), count, lod, sample.data());
             for (std::size_t q = 0; q < count; ++q) values[q] += sample[q];
           }
       const float inv = 1.0f / float(k * k * k);
-      for (std::size_t q = 0; q < count; ++q) values[q] *= inv;
+      for (std::size_t q = 0; q < count; ++q) {
+        values[q] *= inv;
+        if (parts[q].share < 1.0f) values[q] *= parts[q].share;
+      }
     }
     std::int64_t active = 0;
     std::size_t q = 0;

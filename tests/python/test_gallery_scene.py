@@ -128,10 +128,10 @@ def test_sun_in_the_altostratus_side_frame(name):
 
 
 def test_thin_layer_levels_are_box_filtered_where_the_layer_is_resolved():
-    # A level is baked with --supersample 2 only where the layer spans 1 to THIN_LAYER_VOXELS
-    # voxels: much thinner, a cell's sub-samples can all miss the layer (measured: a voxel of 1.31
-    # over the 0.6-unit cirrocumulus baked empty at K = 2, docs/camera.md); thicker, the point
-    # samples resolve it. Exact.
+    # A level is baked with --supersample 2 where the layer spans 1 to THIN_LAYER_VOXELS voxels and
+    # with 3 where it is thinner than a voxel (there the box filter samples the cell's part inside
+    # the layer; point-sampled, the layer came out a whole voxel thick: 1.9x-7.4x its column,
+    # tests/native/test_supersample.cpp); thicker, the point samples resolve it. Exact.
     values = _values("cirrocumulus")
     chosen = []
     for lv, res, _, _ in gs.layer_levels("cirrocumulus", values, 640):
@@ -139,8 +139,9 @@ def test_thin_layer_levels_are_box_filtered_where_the_layer_is_resolved():
         z_voxels = b[2] * res / max(b)
         k = gs.level_supersample(lv, res)
         chosen.append((round(z_voxels, 2), k))
-        assert k == (2 if 1.0 <= z_voxels < gs.THIN_LAYER_VOXELS else 1), chosen
-    assert [k for _, k in chosen] == [1, 1, 2, 2], chosen  # 0.5, 0.9, 1.8 and 6.6 voxels thick
+        want = 3 if z_voxels < 1.0 else 2 if z_voxels < gs.THIN_LAYER_VOXELS else 1
+        assert k == want, chosen
+    assert [k for _, k in chosen] == [3, 3, 2, 2], chosen  # 0.5, 0.9, 1.8 and 6.6 voxels thick
     # the nimbostratus is thick in voxels at every level: point samples
     nb = _values("nimbostratus")
     assert all(gs.level_supersample(lv, res) == 1 for lv, res, _, _ in gs.layer_levels("nimbostratus", nb, 640))
