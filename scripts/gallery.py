@@ -79,6 +79,12 @@ OVERCAST_KEY = 0.12
 # the sun's glow in them (2.15-4.71; with it, 9.2-43: cirrus and stratocumulus 9, the veils' sun
 # in view 6-43). The overcasts read 0.50 (nimbostratus side-on: ISO 640), 2.5-6.1 (the rest)
 SUNNY_LIGHT = 3.2
+# a sunlit frame with the sun's glow in it (a veil toward the sun: 14-45) is metered down to
+# GLARE_LIGHT, twice a sunny frame's light, as a camera's meter would take it down: exposed like
+# a sunny frame the cirrostratus's whole 22° halo sat in AgX's shoulder (240-250 of 255) and two
+# reviewers read the ring as the edge of "a hard-edged disc" (round 16); at -2.5 EV (320x180)
+# the ring stood out against a darker inside around a bright sun, as in a photograph of a halo
+GLARE_LIGHT = 2.0 * SUNNY_LIGHT
 METER_SIZE, METER_SAMPLES = (96, 54), 4
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
@@ -130,6 +136,12 @@ def frame_luminance(scene, render_cloud):
     if not np.isfinite(px).all():
         raise RuntimeError("gallery: the meter's render holds NaN or Inf")
     return max(float((px @ np.array([0.2126, 0.7152, 0.0722])).mean()), 1e-6)
+
+
+def glare_compensation(light: float) -> float:
+    """Stops added to a sunlit frame's exposure for its metered light: 0 up to GLARE_LIGHT,
+    then down to GLARE_LIGHT."""
+    return -max(math.log2(light / GLARE_LIGHT), 0.0)
 
 
 def parse_args(argv):
@@ -266,6 +278,9 @@ def shot(name, view, sun, values, baked, out_png, args):
     if name in gs.OVERCAST:
         scene.view_settings.exposure = math.log2(OVERCAST_KEY / light)
         print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
+    elif light > GLARE_LIGHT:
+        scene.view_settings.exposure += glare_compensation(light)
+        print(f"gallery: {name} {view}: the sun's glare, exposure {scene.view_settings.exposure:+.2f}", flush=True)
     iso = camera_finish.iso_for_light(light, SUNNY_LIGHT)
     print(f"gallery: {name} {view}: frame luminance {light:.4g}, ISO {iso:.0f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")

@@ -193,3 +193,15 @@ def test_side_field_reaches_toward_the_horizon(name):
     ratios = [y / centre[1] for _, y, _, _, _ in placed]
     assert max(ratios) > 0.5 * gs.COMPANION_FAR, (name, max(ratios))
     assert sum(r > 4.0 for r in ratios) >= len(ratios) / 3, (name, sorted(round(r, 1) for r in ratios))
+
+
+def test_glare_is_metered_down_and_sunny_frames_are_not():
+    import gallery
+    # Exact (closed form): no change up to GLARE_LIGHT (the twelve sunlit frames of round 15 read
+    # 2.15-4.71), then the frame's light is brought down to GLARE_LIGHT; continuous at the bound.
+    for light in (0.5, 2.15, 3.2, 4.71, gallery.GLARE_LIGHT):
+        assert gallery.glare_compensation(light) == 0.0, light
+    assert gallery.glare_compensation(2 * gallery.GLARE_LIGHT) == -1.0
+    assert abs(gallery.glare_compensation(45.26) - math.log2(gallery.GLARE_LIGHT / 45.26)) < 1e-12
+    assert gallery.glare_compensation(gallery.GLARE_LIGHT * 1.000001) < 0.0
+    assert abs(gallery.glare_compensation(gallery.GLARE_LIGHT * 1.000001)) < 1e-5
