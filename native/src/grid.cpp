@@ -210,9 +210,8 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
             const int s[3] = {sx, sy, sz};
             for (std::size_t q = 0; q < count; ++q)
               for (int a = 0; a < 3; ++a)
-                points[q][a] = parts[q].clipped[a]
-                                   ? parts[q].lo[a] + (float(s[a]) + 0.5f) / float(k) * parts[q].span[a]
-                                   : centres[q][a] + sub_offset(s[a], k) * g.voxel;
+                points[q][a] = parts[q].clipped[a] ? parts[q].lo[a] + (float(s[a]) + 0.5f) / float(k) * parts[q].span[a]
+                                                   : centres[q][a] + sub_offset(s[a], k) * g.voxel;
             density_block(m, points.data(), count, lod, sample.data());
             for (std::size_t q = 0; q < count; ++q) values[q] += sample[q];
           }

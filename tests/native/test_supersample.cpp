@@ -239,13 +239,15 @@ TEST(Supersample, LayerThinnerThanAVoxelKeepsItsColumn) {
         }
       ASSERT_GT(sum_ref, 0.0) << "voxel " << voxel << ": the reference columns are all empty";
       const double rms = std::sqrt(err2 / ref2), ratio = sum / sum_ref;
-      std::cout << "[ figures  ] cirrostratus, voxel " << voxel << ", supersample " << k << ": columns' sum "
-                << ratio << " of the reference's, column RMS error " << rms << " of the reference RMS "
+      std::cout << "[ figures  ] cirrostratus, voxel " << voxel << ", supersample " << k << ": columns' sum " << ratio
+                << " of the reference's, column RMS error " << rms << " of the reference RMS "
                 << std::sqrt(ref2 / double(columns)) << ", " << columns << " columns\n";
       if (k == 1) {
-        EXPECT_GT(std::fabs(ratio - 1.0), 0.4) << "voxel " << voxel << ": the point bake kept the column (the test cannot tell)";
+        EXPECT_GT(std::fabs(ratio - 1.0), 0.4)
+            << "voxel " << voxel << ": the point bake kept the column (the test cannot tell)";
       } else {
-        EXPECT_NEAR(ratio, 1.0, k == 2 ? 0.18 : 0.11) << "voxel " << voxel << ", supersample " << k << ": the columns' sum";
+        EXPECT_NEAR(ratio, 1.0, k == 2 ? 0.18 : 0.11)
+            << "voxel " << voxel << ", supersample " << k << ": the columns' sum";
         EXPECT_LT(rms, 0.25) << "voxel " << voxel << ", supersample " << k << ": the column RMS error";
       }
     }
