@@ -23,7 +23,8 @@ The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
-grey overcasts the camera is balanced and exposed for the overcast's own light (frame_luminance()).
+grey overcasts the camera is balanced and exposed for the overcast's own light (frame_luminance());
+a sunlit frame with the sun's glare in it is exposed down to GLARE_LIGHT.
 Each PNG render also gets its camera finish, NN.jpg (vignetting, sensor grain, in-camera
 sharpening, JPEG: scripts/camera_finish.py; --no-finish: none); measure on the PNG.
 Files are numbered in a shuffled order (NN.png, no type in the name) so a reviewer sees no
