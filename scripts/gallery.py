@@ -18,7 +18,7 @@ CPU. Shots:
 
 and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°);
 side-on under the low sun, compact clouds are lit from the side and thin ice layers have the
-sun ahead, and the altostratus has its sun in the frame (sun_direction).
+sun ahead, and the veils (altostratus, cirrostratus) have their sun in the frame (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
@@ -56,7 +56,11 @@ SUN_IN_VIEW = {"altostratus": (44.0, 22.0), "cirrostratus": (44.0, 22.0)}
 # frame spans -4 to 27 degrees up, +-27 across): a watery disc low in a grey sheet names it;
 # with the sun behind the camera it was a plain grey field, named stratus (round 8). Balanced
 # to that sun (its 4,000 K, sky_light), not to the overcast: at 5,700 K it came out sepia
-SUN_IN_VIEW_SIDE = {"altostratus": (18.0, 16.0)}
+SUN_IN_VIEW_SIDE = {"altostratus": (18.0, 16.0), "cirrostratus": (18.0, 16.0)}
+# the cirrostratus too: its halo then stands as an arc around the sun, left of it, across the
+# frame. With the sun ahead but out of frame (SUN_AHEAD, 45°) only a piece of the arc crossed
+# the top right corner, and two reviewers read it as "a straight diagonal band of light, like a
+# rendering artefact" and "a light leak" (round 16)
 # the hills' height scale (km) where it is a cue: the far hill tops vanish into a low stratus
 # base (0.35 km), which tells it from altostratus ("hills disappearing into it", round 5)
 HILLS_KM = {"stratus": 2.5, "nimbostratus": 1.0}
@@ -90,10 +94,10 @@ METER_SIZE, METER_SAMPLES = (96, 54), 4
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
 SIDE_LIT_AZIMUTH = 90.0
-# thin ice layers side-on under the low sun: the sun ahead, 45° right of the view and out of
-# frame, where their forward scattering shows them (at 120° a Cs veil's phase, g 0.75, is a
-# tenth of that and the reviewer saw no cloud)
-SUN_AHEAD = {"cirrus": 45.0, "cirrostratus": 45.0}
+# the cirrus side-on under the low sun: the sun ahead, 45° right of the view and out of frame,
+# where forward scattering shows thin ice (at 120° a Cs veil's phase, g 0.75, is a tenth of that
+# and the reviewer saw no cloud)
+SUN_AHEAD = {"cirrus": 45.0}
 
 
 def sun_direction(name, view, sun, compact):
