@@ -102,8 +102,8 @@ SUN_AHEAD = {"cirrus": 45.0}
 
 def sun_direction(name, view, sun, compact):
     """(elevation, azimuth from the view) of the sun for a shot: SUNS, except the veils from
-    below (SUN_IN_VIEW) and side-on under the low sun, compact clouds side-lit and thin ice
-    layers with the sun ahead."""
+    below (SUN_IN_VIEW) and side-on under the low sun (SUN_IN_VIEW_SIDE), compact clouds
+    side-lit and the cirrus with the sun ahead (SUN_AHEAD)."""
     if view == "below" and name in SUN_IN_VIEW:
         return SUN_IN_VIEW[name]
     if view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE:
