@@ -54,6 +54,16 @@ double cell_mean(const cg::Model& m, const cg::GridSpec& g, int x, int y, int z,
   return share * sum / double(n * n * n);
 }
 
+// A box-filtered bake (k per axis) of the central square |x|, |y| < half at a given voxel.
+cg::BakeResult square_bake(const cg::Model& m, float voxel, float half, int k) {
+  cg::BakeOptions o;
+  o.voxel = voxel;
+  o.ring_outer = half;
+  o.threads = 2;
+  o.supersample = k;
+  return cg::bake(m, o);
+}
+
 TEST(Supersample, OneIsThePointSampledBake) {
   // Bitwise: supersample 1 (and an out-of-range 0, clamped to 1) bakes what the default bakes, under its key.
   const cg::Model m = cg::prepare(preset("cumulus"));
@@ -146,12 +156,7 @@ TEST(Supersample, BoxFilteredThinLayerIsNearerTheCellMean) {
   const int stride = 7, reference_n = 6;
   double rms[4] = {}, column_rms[4] = {}, reference_rms = 0.0, column_reference_rms = 0.0;
   for (int k : {1, 2, 3}) {
-    cg::BakeOptions o;
-    o.voxel = 0.091f;
-    o.ring_outer = half;
-    o.threads = 2;
-    o.supersample = k;
-    const cg::BakeResult r = cg::bake(m, o);
+    const cg::BakeResult r = square_bake(m, 0.091f, half, k);
     const std::vector<float> a = to_dense(r);
     const cg::GridSpec& g = r.grid;
     double err2 = 0.0, ref2 = 0.0, col_err2 = 0.0, col_ref2 = 0.0;
@@ -204,12 +209,7 @@ TEST(Supersample, LayerThinnerThanAVoxelKeepsItsColumn) {
   const int sub = 4, reference_n = 100;
   for (float voxel : {0.8f, 3.2f}) {
     for (int k : {1, 2, 3}) {
-      cg::BakeOptions o;
-      o.voxel = voxel;
-      o.ring_outer = half;
-      o.threads = 2;
-      o.supersample = k;
-      const cg::BakeResult r = cg::bake(m, o);
+      const cg::BakeResult r = square_bake(m, voxel, half, k);
       const std::vector<float> a = to_dense(r);
       const cg::GridSpec& g = r.grid;
       const cg::Lod lod = cg::lod_for_footprint(m, voxel / float(k));
