@@ -48,11 +48,16 @@ GRID_NODE = "Density Grid"
 HALO_SUN, HALO_IRRADIANCE, HALO_DENSITY = "Halo Sun", "Halo Irradiance", "Halo Density"
 HALO_RADIUS_DEG = 22.0   # the minimum deviation of light through a 60° ice prism
 HALO_INNER_DEG = 0.7     # inside: a sharp edge (no light is deviated by less than the minimum)
-HALO_OUTER_DEG = 4.0     # outside: fades over a few degrees
+# outside: diffuse, light deviated by more than the minimum. At 4° the ring fell off outside as
+# steeply as the sun's glow and, exposed for the glare (gallery round 17, 320x180), the veil
+# inside it read as a bright disc (18-20° from the sun 150 display levels, 26-28° 119); at 8°
+# the inside is the darker side (147 against 150 at 26-28°, the ring 170)
+HALO_OUTER_DEG = 8.0
 # the halo's phase function at the ring, 1/sr, over the veil's own: chosen on renders of the
 # cirrostratus from below (320x180): at 0.5 (about HG(g 0.75)'s own 0.49/sr at 22°) the ring
 # was as bright as a sunlit white surface and burnt out; at 0.15 it is a clear, thin ring that
-# adds about 10 display levels beside the sun's glow, as a bright halo in a thin veil looks
+# adds about 10 display levels beside the sun's glow, as a bright halo in a thin veil looks.
+# A preset's "halo" scales it (the cirrostratus: 2, chosen with the exposure for the glare)
 HALO_PEAK_PER_SR = 0.15
 
 
