@@ -302,9 +302,9 @@ def layer_levels(name, values, width):
 # a voxel in z and a point sample aliases them (the cirrocumulus's innermost level: RMS error
 # against the cells' means 0.26 point-sampled, 0.07 box-filtered, tests/native/test_supersample.cpp).
 # Thinner than a voxel (the veils' outer levels), a point sample made the layer a whole voxel thick:
-# the cirrostratus's outer rings came out 1.9x and 7.4x too dense at 0.8 and 3.2-unit voxels, and
+# the cirrostratus's outer rings came out 1.9x and 7.6x too dense at 0.8 and 3.2-unit voxels, and
 # side-on the veil brightened in steps at the rings' seams. The box filter samples only the cell's
-# part inside the box (src/grid.cpp), 3 per axis there: +8 % in the column (2: +15 %).
+# part inside the box (src/grid.cpp), 3 per axis there: +9 % in the column (2: +16 %).
 THIN_LAYER_VOXELS = 8
 LEVEL_SUPERSAMPLE = 2
 SUB_VOXEL_SUPERSAMPLE = 3
