@@ -45,6 +45,8 @@ def dark_settings(scene):
                       "scattered inside clouds: they render grey", "CLAMP"))
     for _, line in _eevee_outside(scene):
         found.append((line, "EEVEE_RANGE"))
+    for _, line in _clipped(scene):
+        found.append((line, "CLIP_END"))
     if scene.view_settings.view_transform == "Standard":
         found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
                       "highlights)", "VIEW"))
@@ -64,6 +66,13 @@ def _eevee_outside(scene):
     return [(o, cut[1]) for o, cut in ((o, checks.eevee_range(scene, o)) for o in baked) if cut is not None]
 
 
+def _clipped(scene):
+    """[(cloud, line)]: the rendering clouds the camera's Clip End cuts off (checks.clip_range)."""
+    clouds = [o for o in scene.objects if cloud_object.is_cloud(o)
+              and (o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED" or not o.hide_render)]
+    return [(o, line) for o, line in ((o, checks.clip_range(scene, o)) for o in clouds) if line is not None]
+
+
 class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
     """Change the one setting that makes the clouds dark or clipped"""
     bl_idname = "cloudgen.fix_dark"
@@ -74,7 +83,9 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
                                         ("VIEW", "View Transform", "AgX (Filmic before 4.0)"),
                                         ("CLAMP", "Clamp Indirect", "Scale the indirect clamp with the exposure"),
                                         ("EEVEE_RANGE", "Eevee Volumetrics Range",
-                                         "Widen Eevee's Volumetrics Start and End to hold every cloud")))
+                                         "Widen Eevee's Volumetrics Start and End to hold every cloud"),
+                                        ("CLIP_END", "Camera Clip End",
+                                         "Move the camera's Clip End beyond the farthest cloud")))
 
     def execute(self, context):
         scene = context.scene
@@ -90,6 +101,9 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
             start, end = checks.eevee_range_fix(scene, [c for c, _ in _eevee_outside(scene)])
             self.report({"INFO"}, f"Eevee Volumetrics {start:g}–{end:g} m (a longer range spreads Eevee's "
                                   "volume slices further apart: smaller Tile Size if the clouds band)")
+        elif self.what == "CLIP_END":
+            end = checks.clip_range_fix(scene, [c for c, _ in _clipped(scene)])
+            self.report({"INFO"}, f"Camera Clip End {end:g} m")
         else:
             self.report({"INFO"}, f"View Transform {sky_light.view_transform(scene)}")
         return {"FINISHED"}

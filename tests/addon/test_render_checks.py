@@ -110,6 +110,7 @@ def test_baked_cloud_beyond_eevee_volumetrics_end(addon, scene, cloud):
     scene.camera = cam
     cam.rotation_euler = (1.5707963, 0.0, 0.0)  # looking along +y
     scene.eevee.volumetric_start, scene.eevee.volumetric_end = 0.1, 100.0
+    cam.data.clip_end = 1.0e4  # the camera's own clipping is another check (test_clip_end_...)
     half = cloud.dimensions.y / 2
     for y, want in ((50.0, ([], [])), (100.0, "cut"), (100.0 + half + 1.0, "empty")):
         cam.location = (cloud.location.x, cloud.location.y - y, cloud.location.z)
@@ -133,3 +134,38 @@ def test_baked_cloud_beyond_eevee_volumetrics_end(addon, scene, cloud):
     assert not [f for _, f in addon.light_setup.dark_settings(scene) if f == "EEVEE_RANGE"]
     scene.eevee.volumetric_end = 1000.0
     assert _lines(addon, scene) == ([], [])
+
+
+def test_clip_end_said_and_fixed(addon, scene, cloud):
+    """A camera whose Clip End (Blender's default 100 m) is nearer than the cloud's far side
+    cuts the cloud off on a straight line (docs/addon.md): a warning before the render (not an
+    empty cloud: the near part renders) and a line with a Fix in the sidebar; the Fix moves Clip
+    End 5 % beyond the farthest corner (never nearer). Exact distances from the box's corners."""
+    import bpy
+    from mathutils import Vector
+
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    cam.rotation_euler = (1.5707963, 0.0, 0.0)  # looking along +y
+    cam.data.clip_end = 100.0  # the startup file's camera (a new camera's is 1000 in 4.5)
+    for y, cut in ((50.0, False), (99.0, True)):
+        cam.location = (cloud.location.x, cloud.location.y - y, cloud.location.z)
+        bpy.context.view_layer.update()
+        far = max((cloud.matrix_world @ Vector(c) - cam.location).length for c in cloud.bound_box)
+        assert (far > 100.0) == cut, (y, far)
+        empty, warnings = _lines(addon, scene)
+        lines = [w for w in warnings if "Clip End" in w]
+        assert not empty, (y, empty)
+        assert len(lines) == int(cut), (y, far, warnings)
+        if cut:
+            assert f"{cloud.name} is cut off" in lines[0] and f"at least {far:.0f} m" in lines[0], lines
+    found = [f for _, f in addon.light_setup.dark_settings(scene) if f == "CLIP_END"]
+    assert found == ["CLIP_END"], addon.light_setup.dark_settings(scene)
+    assert bpy.ops.cloudgen.fix_dark(what="CLIP_END") == {"FINISHED"}
+    assert cam.data.clip_end == pytest.approx(1.05 * far, rel=1e-5), (cam.data.clip_end, far)
+    assert not [w for w in _lines(addon, scene)[1] if "Clip End" in w]
+    assert not [f for _, f in addon.light_setup.dark_settings(scene) if f == "CLIP_END"]
+    cam.data.clip_end = 1.0e5  # never brought nearer
+    assert bpy.ops.cloudgen.fix_dark(what="CLIP_END") == {"FINISHED"}
+    assert cam.data.clip_end == pytest.approx(1.0e5)
