@@ -84,7 +84,7 @@ OVERCAST_KEY = 0.12
 # the sun's glow in them (2.15-4.71; with it, 9.2-43: cirrus and stratocumulus 9, the veils' sun
 # in view 6-43). The overcasts read 0.50 (nimbostratus side-on: ISO 640), 2.5-6.1 (the rest)
 SUNNY_LIGHT = 3.2
-# a sunlit frame with the sun's glow in it (a veil toward the sun: 14-45) is metered down to
+# a sunlit frame with the sun's glow in it (the veils toward the sun read 44-58 in round 17) is metered down to
 # GLARE_LIGHT, twice a sunny frame's light, as a camera's meter would take it down: exposed like
 # a sunny frame the cirrostratus's whole 22° halo sat in AgX's shoulder (240-250 of 255) and two
 # reviewers read the ring as the edge of "a hard-edged disc" (round 16); at -2.5 EV (320x180)
