@@ -9,7 +9,9 @@ The file is the one `cloudgen bake` writes for the same parameters and settings
   n_a = max(1, ceil(B_a / v - 1e-4)), origin = -n·v/2 (float32, as the core
   computes it); voxel (i,j,k) is sampled at origin + (i+½, j+½, k+½)·v with
   `cloudgen_native.density(params, points, footprint=v)` (footprint 0 with LOD
-  off): the same kernel and points as the CLI, so equal values voxel for voxel;
+  off); a cell overhanging the box at the centre of its part inside it, weighted by
+  that part's share of the cell (grid_points.py): the same kernel, points and weights
+  as the CLI, so equal values voxel for voxel;
 - one float grid `density`, class fog volume, background 0, voxels <= tolerance
   inactive, transform index -> local (scale v, translate origin + v/2), half
   floats when asked;
@@ -39,8 +41,10 @@ import threading
 from dataclasses import dataclass
 
 try:
+    from . import grid_points
     from .bake_process import BAD_ARGUMENT, CANCELLED, IO_ERROR, OK, BakeResult
 except ImportError:  # loaded by its path in tests (bake_process loaded first as a top-level module)
+    import grid_points
     from bake_process import BAD_ARGUMENT, CANCELLED, IO_ERROR, OK, BakeResult
 
 TILE = 8
@@ -212,11 +216,11 @@ class LocalBake:
         import numpy as np  # noqa: PLC0415
 
         vdb, s = self.vdb, self.settings
-        n, voxel, origin = plan["grid"], plan["voxel"], plan["origin"]
+        n, voxel = plan["grid"], plan["voxel"]
         f = np.float32
         footprint = float(voxel) if s.lod else 0.0
         grid = vdb.FloatGrid()
-        axes = [f(origin[a]) + (np.arange(n[a], dtype=f) + f(0.5)) * f(voxel) for a in range(3)]
+        axes, shares = grid_points.sample_axes(plan)
         layers = max(1, min(TILE, MAX_POINTS_PER_CALL // max(1, n[0] * n[1])))
         xy = np.stack([c.ravel() for c in np.meshgrid(axes[0], axes[1], indexing="ij")], axis=1)
         active = 0
@@ -230,6 +234,7 @@ class LocalBake:
             points[:, :, 2] = zs[None, :]
             values = np.asarray(self.native.density(params, points.reshape(-1, 3), self.threads, footprint),
                                 dtype=f).reshape(n[0], n[1], k1 - k0)
+            values *= grid_points.share_block(shares, k0, k1)
             values[~(values > f(s.tolerance))] = 0  # the CLI: d <= tolerance (and NaN) is background
             if values.any():
                 active += int(np.count_nonzero(values))

@@ -1,13 +1,16 @@
-"""The 3D proxy's grid: the cloud's density at the voxel centres of a small bake grid,
+"""The 3D proxy's grid: the cloud's density sampled as a small point bake samples it,
 written as a VDB that Blender's Volume object reads. No bpy here (the native and
 OpenVDB modules are passed in), so it is tested and timed without Blender.
 
 - grid: `cloudgen_native.bake_plan(params, resolution)` — the bake's own grid
   (docs/model.md §8: cubic voxels, `resolution` along the longest box side,
   centred, float32), so a proxy is exactly a low-resolution bake;
-- values: `cloudgen_native.density(params, centres, footprint=voxel)`, i.e. with
+- values: `cloudgen_native.density(params, points, footprint=voxel)`, i.e. with
   the bake's level of detail (octaves finer than a voxel replaced by their mean:
-  a 64-voxel proxy would alias them anyway);
+  a 64-voxel proxy would alias them anyway), at the voxel centres; where a cell
+  overhangs the cloud's box, at the centre of its part inside the box, times that
+  part's share of the cell (the bake's rule, grid_points.py: a veil thinner than a
+  voxel keeps its column instead of becoming a voxel thick);
 - file: one float grid `density` (fog volume, background 0, zero voxels inactive,
   index -> local transform of the bake), full floats, written to a temporary file
   in the same folder and renamed over the target (atomic: Blender never reads a
@@ -19,6 +22,11 @@ import os
 import tempfile
 
 import numpy as np
+
+try:
+    from . import grid_points
+except ImportError:  # loaded by its path in tests, beside grid_points
+    import grid_points
 
 MIN_RESOLUTION = 32
 MAX_RESOLUTION = 128
@@ -33,24 +41,16 @@ def check_resolution(resolution) -> int:
     return r
 
 
-def voxel_centres(plan):
-    """(axes, points): the voxel-centre coordinates along x, y, z (float32, as the bake
-    computes them) and every centre as an (nx*ny*nz, 3) array, x slowest, z fastest."""
-    f = np.float32
-    n, voxel, origin = plan["grid"], plan["voxel"], plan["origin"]
-    axes = [f(origin[a]) + (np.arange(n[a], dtype=f) + f(0.5)) * f(voxel) for a in range(3)]
-    points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    return axes, points
-
-
 def compute(native, params, resolution):
-    """(values, plan): the density at the proxy grid's voxel centres, float32 of shape
-    (nx, ny, nz), and the core's bake plan (grid, voxel, origin). params: resolved."""
+    """(values, plan): the proxy grid's values, float32 of shape (nx, ny, nz), sampled as a
+    point bake samples them (grid_points), and the core's bake plan (grid, voxel, origin).
+    params: resolved."""
     plan = native.bake_plan(params, check_resolution(resolution), lod=True)
-    _, points = voxel_centres(plan)
+    axes, shares = grid_points.sample_axes(plan)
+    points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     n = plan["grid"]
     values = np.asarray(native.density(params, points, 0, float(plan["voxel"])), dtype=np.float32)
-    values = values.reshape(n[0], n[1], n[2])
+    values = values.reshape(n[0], n[1], n[2]) * grid_points.share_block(shares)
     values[~(values > 0)] = 0  # background (and never NaN or negative in a grid)
     return values, plan
 

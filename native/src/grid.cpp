@@ -50,7 +50,7 @@ TileRange tile_range(const GridSpec& g, std::int64_t t) {
 }
 
 // Upper bound of the unscaled density over the points a tile samples: its
-// voxel centres, widened by `reach` (the sub-samples' farthest offset).
+// voxel centres, widened by `reach` (how far a sample may lie from its voxel's centre).
 float tile_bound(const Model& m, const GridSpec& g, const TileRange& r, float reach = 0.0f) {
   vec3 lo = g.centre(r.lo[0], r.lo[1], r.lo[2]);
   vec3 hi = g.centre(r.hi[0] - 1, r.hi[1] - 1, r.hi[2] - 1);
@@ -84,11 +84,9 @@ CellPart cell_part(const Model& m, float voxel, const vec3& c) {
   return p;
 }
 
-// How far a voxel's farthest sub-sample lies from its centre along an axis (scene units).
-float sample_reach(const BakeOptions& o, float voxel) {
-  const int k = o.samples_per_axis();
-  return k > 1 ? sub_offset(k - 1, k) * voxel : 0.0f;
-}
+// How far a voxel's samples may lie from its centre along an axis (scene units): anywhere
+// in its cell, since a cell clipped by the box is sampled inside the box (cell_part).
+float sample_reach(float voxel) { return 0.5f * voxel; }
 
 std::int64_t tile_count(const GridSpec& g) { return std::int64_t(g.tiles(0)) * g.tiles(1) * g.tiles(2); }
 
@@ -141,7 +139,7 @@ std::int64_t estimate_bake_bytes(const Model& m, const BakeOptions& o) {
     for (std::int64_t t = span.first; t < span.last; ++t) {
       const TileRange r = tile_range(g, t);
       if (tile_culled(o, g, r)) continue;
-      if (!o.skip_empty || tile_bound(m, g, r, sample_reach(o, g.voxel)) > 0.0f) ++candidates;
+      if (!o.skip_empty || tile_bound(m, g, r, sample_reach(g.voxel)) > 0.0f) ++candidates;
     }
   }
   // 4 bytes per voxel in the tile list, ~5.5 bytes per active voxel in an
@@ -157,7 +155,7 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
   const GridSpec& g = result.grid;
   const int k = o.samples_per_axis();
   const Lod lod = o.lod ? lod_for_footprint(m, g.voxel / float(k)) : kNoLod;
-  const float reach = sample_reach(o, g.voxel);
+  const float reach = sample_reach(g.voxel);
   const bool ring = o.has_ring();
   result.stats.lod_worley_octaves = lod.worley_octaves;
   result.stats.lod_perlin_octaves = lod.perlin_octaves;
@@ -194,32 +192,30 @@ BakeResult bake(const Model& m, const BakeOptions& o, const Progress& progress) 
     for (int z = r.lo[2]; z < r.hi[2]; ++z)
       for (int y = r.lo[1]; y < r.hi[1]; ++y)
         for (int x = r.lo[0]; x < r.hi[0]; ++x) centres[count++] = g.centre(x, y, z);
-    if (k == 1) {
-      density_block(m, centres.data(), count, lod, values.data());
-    } else {
-      // A voxel that overhangs the box (the density is 0 outside it) is sampled over its
-      // part inside the box and weighted by that part's share of the cell: the same mean,
-      // but a layer thinner than a voxel keeps its column's density instead of falling
-      // between the sub-samples (or, point-sampled, becoming a voxel thick).
-      std::array<CellPart, kTileVoxels> parts;
-      for (std::size_t q = 0; q < count; ++q) parts[q] = cell_part(m, g.voxel, centres[q]);
-      std::fill(values.begin(), values.begin() + count, 0.0f);
-      for (int sz = 0; sz < k; ++sz)
-        for (int sy = 0; sy < k; ++sy)
-          for (int sx = 0; sx < k; ++sx) {
-            const int s[3] = {sx, sy, sz};
-            for (std::size_t q = 0; q < count; ++q)
-              for (int a = 0; a < 3; ++a)
-                points[q][a] = parts[q].clipped[a] ? parts[q].lo[a] + (float(s[a]) + 0.5f) / float(k) * parts[q].span[a]
-                                                   : centres[q][a] + sub_offset(s[a], k) * g.voxel;
-            density_block(m, points.data(), count, lod, sample.data());
-            for (std::size_t q = 0; q < count; ++q) values[q] += sample[q];
-          }
-      const float inv = 1.0f / float(k * k * k);
-      for (std::size_t q = 0; q < count; ++q) {
-        values[q] *= inv;
-        if (parts[q].share < 1.0f) values[q] *= parts[q].share;
-      }
+    // A voxel that overhangs the box (the density is 0 outside it) is sampled over its
+    // part inside the box and weighted by that part's share of the cell: the same mean,
+    // but a layer thinner than a voxel keeps its column's density instead of falling
+    // between the sub-samples or, point-sampled (K = 1: one sample at the centre of
+    // the part), becoming a voxel thick. Cells wholly inside are sampled at their
+    // centre (K = 1) or on the K-cell split's centres.
+    std::array<CellPart, kTileVoxels> parts;
+    for (std::size_t q = 0; q < count; ++q) parts[q] = cell_part(m, g.voxel, centres[q]);
+    std::fill(values.begin(), values.begin() + count, 0.0f);
+    for (int sz = 0; sz < k; ++sz)
+      for (int sy = 0; sy < k; ++sy)
+        for (int sx = 0; sx < k; ++sx) {
+          const int s[3] = {sx, sy, sz};
+          for (std::size_t q = 0; q < count; ++q)
+            for (int a = 0; a < 3; ++a)
+              points[q][a] = parts[q].clipped[a] ? parts[q].lo[a] + (float(s[a]) + 0.5f) / float(k) * parts[q].span[a]
+                                                 : centres[q][a] + sub_offset(s[a], k) * g.voxel;
+          density_block(m, points.data(), count, lod, sample.data());
+          for (std::size_t q = 0; q < count; ++q) values[q] += sample[q];
+        }
+    const float inv = 1.0f / float(k * k * k);
+    for (std::size_t q = 0; q < count; ++q) {
+      values[q] *= inv;
+      if (parts[q].share < 1.0f) values[q] *= parts[q].share;
     }
     std::int64_t active = 0;
     std::size_t q = 0;

@@ -1,14 +1,17 @@
 """The live 3D proxy (addon/proxy.py) in the 4.5 wheel (background mode: the depsgraph
 handler refreshes at once; the UI's timer function `_tick` is called as Blender would).
 
-Tolerances: the proxy's voxels are cloudgen_native.density at the voxel centres of
-bake_plan(params, resolution) with footprint = voxel, i.e. the same call on the same
-float32 points: equal with tolerance 0. Placement: 1e-5 (float matrices). Renders:
+Tolerances: the proxy is a point bake of bake_plan(params, resolution): its voxels equal
+those of `cloudgen bake --resolution N` of the same parameters (the core's grid.cpp, which
+samples a cell overhanging the box inside it, weighted by its share) with tolerance 0. Placement: 1e-5 (float matrices). Renders:
 the same scene with and without the proxy must give images equal within 1e-6 (Cycles
 with a fixed seed is deterministic on one machine); the control render with the
 proxy visible and the guard removed must differ by more than 0.01 somewhere.
 """
 import os
+import pathlib
+import subprocess
+import tempfile
 import time
 
 import cloudgen_native as cn
@@ -16,6 +19,7 @@ import numpy as np
 import pytest
 from addon_helpers import add_camera_and_sun, render_to_array
 
+CLI = pathlib.Path(__file__).resolve().parents[2] / "build" / "bin" / "cloudgen"
 PROXY_HANDLERS = ("depsgraph_update_post", "undo_post", "redo_post", "render_pre", "render_complete",
                   "render_cancel")
 
@@ -36,11 +40,18 @@ def _grid(addon, obj):
 
 
 def _expected(cloud, addon, resolution):
+    """The CLI's bake of the cloud's parameters at `resolution` as an (nx, ny, nz) array."""
     params = cn.resolve_params(addon.cloud_object.params_from_object(cloud))
     plan = cn.bake_plan(params, resolution, lod=True)
-    _, points = addon.proxy_grid.voxel_centres(plan)
-    n = plan["grid"]
-    values = np.asarray(cn.density(params, points, 0, float(plan["voxel"])), dtype=np.float32).reshape(n)
+    with tempfile.TemporaryDirectory() as tmp:
+        source = pathlib.Path(tmp) / "params.json"
+        source.write_text(plan["params_json"])
+        out = pathlib.Path(tmp) / "cli.vdb"
+        r = subprocess.run([str(CLI), "bake", "--params", str(source), "--resolution", str(resolution),
+                            "--output", str(out), "--quiet"], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, r.stderr
+        values = np.zeros(plan["grid"], dtype=np.float32)
+        addon.bridge.openvdb().read(str(out), "density").copyToArray(values, ijk=(0, 0, 0))
     return values, plan, params
 
 

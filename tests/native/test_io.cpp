@@ -19,6 +19,7 @@
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/vdb_io.h"
+#include "test_util.h"
 
 namespace {
 
@@ -81,7 +82,8 @@ cgio::VdbWriteOptions write_options(const cg::Params& params, int resolution, bo
 }
 
 // Compares every voxel of the grid box (plus a one-voxel margin, which must be
-// empty) with cg::density at the voxel centre, evaluated with the bake's LOD.
+// empty) with cg::density at the voxel centre, evaluated with the bake's LOD (a cell
+// overhanging the box: cgtest::point_bake_value).
 // |read - direct| <= rel * |direct| + abs_tol; active exactly where direct > 0.
 void expect_equals_direct(const cgio::VdbFloatGrid& vdb, const Baked& b, float rel, float abs_tol) {
   const cg::GridSpec& g = b.result.grid;
@@ -91,7 +93,7 @@ void expect_equals_direct(const cgio::VdbFloatGrid& vdb, const Baked& b, float r
     for (int j = -1; j <= g.n[1]; ++j)
       for (int i = -1; i <= g.n[0]; ++i) {
         const bool inside = i >= 0 && j >= 0 && k >= 0 && i < g.n[0] && j < g.n[1] && k < g.n[2];
-        const float direct = inside ? cg::density(b.model, g.centre(i, j, k), lod) : 0.0f;
+        const float direct = inside ? cgtest::point_bake_value(b.model, g, i, j, k, lod) : 0.0f;
         const float read = vdb.value(i, j, k);
         const bool on = vdb.active(i, j, k);
         active += on;

@@ -120,4 +120,24 @@ inline std::vector<float> to_dense(const cg::BakeResult& r) {
   return out;
 }
 
+// What a point-sampled bake (supersample 1) holds at voxel (i, j, k), stated apart from the
+// bake's code: the density at the voxel's centre; where the cell overhangs the model's box
+// (the density is 0 outside it), the density at the centre of the cell's part inside the box
+// times that part's share of the cell (docs/camera.md, "thin layers").
+inline float point_bake_value(const cg::Model& m, const cg::GridSpec& g, int i, int j, int k, const cg::Lod& lod) {
+  const cg::vec3 c = g.centre(i, j, k);
+  cg::vec3 p = c;
+  float share = 1.0f;
+  for (int a = 0; a < 3; ++a) {
+    const float half = 0.5f * m.box[a];
+    const float lo = c[a] - 0.5f * g.voxel, hi = c[a] + 0.5f * g.voxel;
+    if (lo >= -half && hi <= half) continue;
+    const float in_lo = std::max(lo, -half), in_span = std::max(std::min(hi, half) - in_lo, 0.0f);
+    p[a] = in_lo + 0.5f * in_span;
+    share *= in_span / g.voxel;
+  }
+  const float d = cg::density(m, p, lod);
+  return share < 1.0f ? d * share : d;
+}
+
 }  // namespace cgtest

@@ -53,6 +53,10 @@ struct BakeOptions {
   // thresholded noise has edges sharper than its voxel; point samples alias
   // them into stripes (docs/gallery/moire), the cell's mean does not. The LOD
   // then keeps octaves down to the sub-sample spacing. Cost: supersample^3.
+  // A cell that overhangs the model's box (the grid may, by less than a voxel;
+  // a layer thinner than a voxel is one cell through) is sampled only on its
+  // part inside the box, the same split there, and weighted by that part's
+  // share of the cell: at 1, the density at the part's centre x the share.
   int supersample = 1;
   // supersample clamped to [1, kMaxSupersample]: what the bake, its key and its file use.
   int samples_per_axis() const {
