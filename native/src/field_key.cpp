@@ -107,7 +107,7 @@ std::string bake_key(const Model& m, const BakeOptions& o, bool half) {
     for (const Plane& p : o.region.planes) h.v3(p.n), h.f(p.d);
     for (int l = 0; l < o.region.light_count; ++l) h.v3(o.region.lights[l]);
   }
-  if (o.has_ring()) h.i(0x72696e67), h.f(o.ring_inner), h.f(o.ring_outer);  // "ring"; a whole box keeps its key
+  if (o.has_ring()) h.i(0x72696e67), h.f(o.ring_inner), h.f(o.ring_outer);   // "ring"; a whole box keeps its key
   if (o.samples_per_axis() > 1) h.i(0x73757073), h.i(o.samples_per_axis());  // "sups"
   // "clip": a cell overhanging the box is sampled inside it, weighted by its share; since
   // 2026-11-27 point-sampled bakes too, so bakes cached before then are redone.

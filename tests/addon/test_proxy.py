@@ -3,7 +3,8 @@ handler refreshes at once; the UI's timer function `_tick` is called as Blender 
 
 Tolerances: the proxy is a point bake of bake_plan(params, resolution): its voxels equal
 those of `cloudgen bake --resolution N` of the same parameters (the core's grid.cpp, which
-samples a cell overhanging the box inside it, weighted by its share) with tolerance 0. Placement: 1e-5 (float matrices). Renders:
+samples a cell overhanging the box inside it, weighted by its share) with tolerance 0.
+Placement: 1e-5 (float matrices). Renders:
 the same scene with and without the proxy must give images equal within 1e-6 (Cycles
 with a fixed seed is deterministic on one machine); the control render with the
 proxy visible and the guard removed must differ by more than 0.01 somewhere.

@@ -249,7 +249,10 @@ TEST(Supersample, LayerThinnerThanAVoxelKeepsItsColumn) {
         EXPECT_GT(std::fabs(sum_centre / sum_ref - 1.0), 0.4)
             << "voxel " << voxel << ": the cell's centre x a voxel kept the column (the test cannot tell)";
       }
-      EXPECT_NEAR(ratio, 1.0, k == 1 ? 0.25 : k == 2 ? 0.18 : 0.11)
+      EXPECT_NEAR(ratio, 1.0,
+                  k == 1   ? 0.25
+                  : k == 2 ? 0.18
+                           : 0.11)
           << "voxel " << voxel << ", supersample " << k << ": the columns' sum";
       EXPECT_LT(rms, k == 1 ? 0.30 : 0.25) << "voxel " << voxel << ", supersample " << k << ": the column RMS error";
     }
