@@ -26,8 +26,10 @@ The shader, node "Cloud Volume" → "Material Output".Volume:
   hexagonal ice crystals, which no phase function of Cycles has (HG, Fournier-Forand, Draine,
   Rayleigh and Mie all fall monotonically from the forward peak): single scattering of the
   sun, radiance per unit length = density * E_sun * HALO_PEAK_PER_SR * halo * lobe(theta),
-  theta the angle between the view ray and the sun; lobe 1 at HALO_RADIUS_DEG, falling as a
-  Gaussian of HALO_INNER_DEG inside (the sharp, reddish inner edge) and HALO_OUTER_DEG outside.
+  theta the angle between the view ray and the sun; per colour channel, lobe 1 at that
+  channel's HALO_RADII_DEG (ice's dispersion: red deviated least, so the inner edge is red),
+  falling as a Gaussian of HALO_INNER_DEG inside (the sharp inner edge) and, outside, a
+  narrow core of HALO_OUTER_DEG with a faint skirt (_halo_lobe).
   The sun comes from the nodes "Halo Sun" (direction toward the sun) and "Halo Irradiance"
   (E_sun, linear RGB), which point_halos(scene) sets from the scene's sun lamp in every
   material that has them (Add Cloud, Cloud Sky & Sun and Bake call it; so do the scripts);
@@ -46,18 +48,23 @@ MIE_DIAMETER_UM = 20.0       # droplet diameter of the Mie phase, micrometres (c
 VOLUME_NODE = "Cloud Volume"
 GRID_NODE = "Density Grid"
 HALO_SUN, HALO_IRRADIANCE, HALO_DENSITY = "Halo Sun", "Halo Irradiance", "Halo Density"
-HALO_RADIUS_DEG = 22.0   # the minimum deviation of light through a 60° ice prism
-HALO_INNER_DEG = 0.7     # inside: a sharp edge (no light is deviated by less than the minimum)
-# outside: diffuse, light deviated by more than the minimum. At 4° the ring fell off outside as
-# steeply as the sun's glow and, exposed for the glare (gallery round 17, 320x180), the veil
-# inside it read as a bright disc (18-20° from the sun 150 display levels, 26-28° 119); at 8°
-# the inside is the darker side (147 against 150 at 26-28°, the ring 170)
-HALO_OUTER_DEG = 8.0
+# The ring's radius per channel: the minimum deviation through a 60° ice prism,
+# D = 2 asin(n sin 30°) - 60°, with ice's refractive index n = 1.3087 (red, 620 nm), 1.3104
+# (green, 550 nm), 1.3146 (blue, 460 nm). Red is deviated least: the ring's inner edge is red.
+HALO_RADII_DEG = (21.74, 21.87, 22.19)
+HALO_INNER_DEG = 0.5     # inside: a sharp edge (no light is deviated by less than the minimum;
+#                          the sun's disc, 0.53° across, blurs it)
+# outside: light deviated by more than the minimum, a narrow core and a broad, faint skirt.
+# Gallery round 17 had one Gaussian of 8° outside: a step from a darker inside to a bright
+# outside, read as "a darker disc with a hard rim"; at 4° the veil inside the ring read as a
+# bright disc. Real halos are a thin bright ring with a red inner edge, fading outward.
+HALO_OUTER_DEG = 2.5
+HALO_SKIRT_DEG, HALO_SKIRT_SHARE = 8.0, 0.35   # the skirt's width and its share of the peak
 # the halo's phase function at the ring, 1/sr, over the veil's own: chosen on renders of the
 # cirrostratus from below (320x180): at 0.5 (about HG(g 0.75)'s own 0.49/sr at 22°) the ring
 # was as bright as a sunlit white surface and burnt out; at 0.15 it is a clear, thin ring that
 # adds about 10 display levels beside the sun's glow, as a bright halo in a thin veil looks.
-# A preset's "halo" scales it (the cirrostratus: 2, chosen with the exposure for the glare)
+# A preset's "halo" scales it (the cirrostratus: 2.5, chosen on 320x180 renders with the thin ring)
 HALO_PEAK_PER_SR = 0.15
 
 
@@ -171,16 +178,17 @@ def _add_halo(nt, volume, out, strength, grid):
     nt.links.new(sun.outputs[0], dot.inputs[1])
     cos_theta = math_node(nt, "MULTIPLY", dot.outputs["Value"], -1.0)  # the view ray against the sun
     theta = math_node(nt, "ARCCOSINE", math_node(nt, "MAXIMUM", math_node(nt, "MINIMUM", cos_theta, 1.0), -1.0))
-    d = math_node(nt, "SUBTRACT", theta, math.radians(HALO_RADIUS_DEG))
-    inside = math_node(nt, "LESS_THAN", d, 0.0)
-    width = math_node(nt, "MULTIPLY_ADD", inside, math.radians(HALO_INNER_DEG - HALO_OUTER_DEG),
-                      math.radians(HALO_OUTER_DEG))
-    u = math_node(nt, "DIVIDE", d, width)
-    lobe = math_node(nt, "EXPONENT", math_node(nt, "MULTIPLY", math_node(nt, "MULTIPLY", u, u), -1.0))
-    power = math_node(nt, "MULTIPLY", math_node(nt, "MULTIPLY", lobe, density.outputs[0]), HALO_PEAK_PER_SR * strength)
+    lobes = nt.nodes.new("ShaderNodeCombineXYZ")  # per channel: x red, y green, z blue
+    for channel, radius in enumerate(HALO_RADII_DEG):
+        nt.links.new(_halo_lobe(nt, theta, radius), lobes.inputs[channel])
+    colour = nt.nodes.new("ShaderNodeVectorMath")  # E_sun x the lobes (colour <-> vector implicitly)
+    colour.operation = "MULTIPLY"
+    nt.links.new(irradiance.outputs[0], colour.inputs[0])
+    nt.links.new(lobes.outputs[0], colour.inputs[1])
+    power = math_node(nt, "MULTIPLY", density.outputs[0], HALO_PEAK_PER_SR * strength)
     emission = nt.nodes.new("ShaderNodeEmission")
     emission.name = emission.label = "Halo"
-    nt.links.new(irradiance.outputs[0], emission.inputs["Color"])
+    nt.links.new(colour.outputs[0], emission.inputs["Color"])
     nt.links.new(power, emission.inputs["Strength"])
     add = nt.nodes.new("ShaderNodeAddShader")
     nt.links.new(volume.outputs["Volume"], add.inputs[0])
@@ -188,6 +196,27 @@ def _add_halo(nt, volume, out, strength, grid):
     nt.links.new(add.outputs[0], out.inputs["Volume"])
     for node, at in ((emission, (100, -250)), (add, (250, -100)), (sun, (-600, -250)), (irradiance, (-150, -250))):
         node.location = at
+
+
+def _gaussian(nt, d, width):
+    """exp(-(d / width)^2) in nodes; width a socket or a number (radians)."""
+    u = math_node(nt, "DIVIDE", d, width)
+    return math_node(nt, "EXPONENT", math_node(nt, "MULTIPLY", math_node(nt, "MULTIPLY", u, u), -1.0))
+
+
+def _halo_lobe(nt, theta, radius_deg):
+    """The ring's profile for the channel of radius `radius_deg`, in nodes (theta a socket,
+    radians; d = theta - radius): 1 at d = 0; inside (d < 0) exp(-(d / HALO_INNER_DEG)^2);
+    outside core + HALO_SKIRT_SHARE * (skirt - core), core and skirt Gaussians of
+    HALO_OUTER_DEG and HALO_SKIRT_DEG."""
+    d = math_node(nt, "SUBTRACT", theta, math.radians(radius_deg))
+    inside = math_node(nt, "LESS_THAN", d, 0.0)
+    width = math_node(nt, "MULTIPLY_ADD", inside, math.radians(HALO_INNER_DEG - HALO_OUTER_DEG),
+                      math.radians(HALO_OUTER_DEG))
+    core = _gaussian(nt, d, width)
+    skirt = math_node(nt, "SUBTRACT", _gaussian(nt, d, math.radians(HALO_SKIRT_DEG)), core)
+    outside_share = math_node(nt, "MULTIPLY_ADD", inside, -HALO_SKIRT_SHARE, HALO_SKIRT_SHARE)
+    return math_node(nt, "MULTIPLY_ADD", skirt, outside_share, core)
 
 
 def set_halo_sun(mat, direction, irradiance) -> bool:

@@ -1,7 +1,7 @@
 """The ice veils' 22° halo (addon/volume_material.py): an emission term that Cycles' phase
 functions cannot make. Rendered: a camera at the centre of a thin emitting sphere looking
 straight at the sun; the radiance of each pixel on the centre row against the model
-density * E * HALO_PEAK_PER_SR * halo * lobe(theta) * (path in the sphere). And the halo
+density * E * HALO_PEAK_PER_SR * halo * lobe(theta) * (path in the sphere), per channel. And the halo
 follows the scene's sun lamp (point_halos), is masked with its layer's ring, and is absent
 from looks without "halo"."""
 import math
@@ -28,10 +28,15 @@ def _volume_material():
     return render_cloud._addon_file("volume_material")
 
 
-def _lobe(vm, theta_deg):
-    d = theta_deg - vm.HALO_RADIUS_DEG
-    w = vm.HALO_INNER_DEG if d < 0 else vm.HALO_OUTER_DEG
-    return math.exp(-((d / w) ** 2))
+def _lobe(vm, theta_deg, channel):
+    """The model's ring profile for `channel` (0 red, 1 green, 2 blue), written out here apart
+    from vm.halo_lobe: a Gaussian of HALO_INNER_DEG inside the channel's radius; outside, one of
+    HALO_OUTER_DEG blended with one of HALO_SKIRT_DEG (HALO_SKIRT_SHARE of the way)."""
+    d = theta_deg - vm.HALO_RADII_DEG[channel]
+    if d < 0:
+        return math.exp(-((d / vm.HALO_INNER_DEG) ** 2))
+    core, skirt = math.exp(-((d / vm.HALO_OUTER_DEG) ** 2)), math.exp(-((d / vm.HALO_SKIRT_DEG) ** 2))
+    return (1.0 - vm.HALO_SKIRT_SHARE) * core + vm.HALO_SKIRT_SHARE * skirt
 
 
 def _halo_sphere(scene, vm, halo=1.0):
@@ -52,7 +57,9 @@ def test_halo_ring_matches_the_model(empty_scene, tmp_path):
     """The mean radiance of every ring of pixels 0.5° wide from 14° to 34° off the sun within
     TOLERANCE_4 (5: TOLERANCE_5) of the model's peak of the model's mean over the same pixels
     (filter width 0.01, 64 samples; the path through a 128 x 64 UV sphere is 1 within
-    0.1 %); the brightest 0.25° ring within 0.6° of HALO_RADIUS_DEG; the mean inside 20° under 1 % of the peak."""
+    0.1 %), per colour channel; the brightest 0.25° ring within 0.6° of the channel's radius
+    (HALO_RADII_DEG); red over blue more than 2x just inside the red radius; the mean inside 20°
+    under 1 % of the peak."""
     import bpy
     import numpy as np
 
@@ -80,21 +87,29 @@ def test_halo_ring_matches_the_model(empty_scene, tmp_path):
     r.filepath = str(out)
     bpy.ops.render.render(write_still=True)
     img = bpy.data.images.load(str(out))
-    px = np.array(img.pixels[:], dtype=np.float64).reshape(SIZE, SIZE, 4)[..., 0]
+    pixels = np.array(img.pixels[:], dtype=np.float64).reshape(SIZE, SIZE, 4)
     peak = DENSITY * vm.HALO_PEAK_PER_SR * (1.0 - DENSITY / 2.0)
     u = (np.arange(SIZE) + 0.5) / SIZE * 2.0 - 1.0  # tan of the angle off the axis, per pixel
     theta = np.degrees(np.arctan(np.hypot(u[None, :], u[:, None])))
-    model = np.vectorize(lambda t: _lobe(vm, t))(theta)
-    worst = (0.0, None)
-    for lo in np.arange(14.0, 34.0, 0.5):  # rings of pixels 0.5° wide: their means (Blender 5's
-        ring = (theta >= lo) & (theta < lo + 0.5)  # volume emission is a noisy estimate per pixel)
-        err = abs(px[ring].mean() - peak * model[ring].mean()) / peak
-        worst = max(worst, (err, f"{lo:.1f}-{lo + 0.5:.1f}°: {px[ring].mean() / peak:.3f} of the peak, "
-                                  f"model {model[ring].mean():.3f}, {ring.sum()} pixels"))
     tolerance = TOLERANCE_5 if bpy.app.version >= (5, 0, 0) else TOLERANCE_4
-    assert worst[0] < tolerance, worst[1]
-    brightest = max(np.arange(14.0, 34.0, 0.25), key=lambda a: px[(theta >= a) & (theta < a + 0.25)].mean())
-    assert abs(brightest + 0.125 - vm.HALO_RADIUS_DEG) < 0.6, f"the ring peaks at {brightest + 0.125:.2f}°"
+    for channel, name in enumerate(("red", "green", "blue")):
+        px = pixels[..., channel]
+        model = np.vectorize(lambda t, c=channel: _lobe(vm, t, c))(theta)
+        worst = (0.0, None)
+        for lo in np.arange(14.0, 34.0, 0.5):  # rings of pixels 0.5° wide: their means (Blender 5's
+            ring = (theta >= lo) & (theta < lo + 0.5)  # volume emission is a noisy estimate per pixel)
+            err = abs(px[ring].mean() - peak * model[ring].mean()) / peak
+            worst = max(worst, (err, f"{name}, {lo:.1f}-{lo + 0.5:.1f}°: {px[ring].mean() / peak:.3f} of the "
+                                     f"peak, model {model[ring].mean():.3f}, {ring.sum()} pixels"))
+        assert worst[0] < tolerance, worst[1]
+        radius = vm.HALO_RADII_DEG[channel]
+        brightest = max(np.arange(14.0, 34.0, 0.25), key=lambda a: px[(theta >= a) & (theta < a + 0.25)].mean())
+        assert abs(brightest + 0.125 - radius) < 0.6, f"{name} ring peaks at {brightest + 0.125:.2f}°, not {radius}°"
+    # the inner edge is red: 0.25° inside the red radius, red over blue more than 2x
+    edge = (theta >= vm.HALO_RADII_DEG[0] - 0.375) & (theta < vm.HALO_RADII_DEG[0] - 0.125)
+    red, blue = pixels[..., 0][edge].mean(), pixels[..., 2][edge].mean()
+    assert red > 2.0 * blue, f"the inner edge is not red: red {red:.3g}, blue {blue:.3g}"
+    px = pixels[..., 0]
     inside = px[theta < 20.0].mean()
     assert inside < 1e-2 * peak, f"light inside the ring: {inside:.3g} (peak {peak:.3g})"
 
