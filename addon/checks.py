@@ -194,6 +194,16 @@ def _farthest(cam, cloud) -> float:
     return max((cloud.matrix_world @ Vector(c) - eye).length for c in cloud.bound_box)
 
 
+def renders(cloud) -> bool:
+    """Whether `cloud` shows in a render: a baked cloud through its bake's Volume object (not
+    hidden from renders), a procedural one through itself. The one rule problems() and the
+    sidebar's dark settings (light_setup) use."""
+    if cloud.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED":
+        vdb_obj = volume_object.baked_object(cloud)
+        return vdb_obj is not None and not vdb_obj.hide_render
+    return not cloud.hide_render
+
+
 def clip_range(scene, cloud):
     """A line when the scene camera's Clip End (Blender's default 100 m) is nearer than the far
     side of the cloud's box: the render cuts the cloud off on a straight line (a cirrostratus 32
@@ -240,7 +250,7 @@ def problems(scene):
             if vdb_obj is None:
                 empty.append(f"{cloud.name} is set to render its bake, but it has no Volume object")
                 continue
-            if vdb_obj.hide_render:
+            if not renders(cloud):
                 continue
             absent = [f for f in _baked_files(cloud, vdb_obj) if not os.path.isfile(bpy.path.abspath(f))]
             if absent:
@@ -257,7 +267,7 @@ def problems(scene):
             if clipped is not None:
                 warnings.append(clipped)
             continue
-        if cloud.hide_render:
+        if not renders(cloud):
             continue
         clipped = clip_range(scene, cloud)
         if clipped is not None:

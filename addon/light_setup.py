@@ -62,14 +62,14 @@ def _eevee_outside(scene):
     part), with checks.eevee_range's line; a procedural cloud does not render in Eevee at all
     (checks.problems says so)."""
     baked = [o for o in scene.objects
-             if cloud_object.is_cloud(o) and o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED"]
+             if cloud_object.is_cloud(o) and o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED"
+             and checks.renders(o)]
     return [(o, cut[1]) for o, cut in ((o, checks.eevee_range(scene, o)) for o in baked) if cut is not None]
 
 
 def _clipped(scene):
     """[(cloud, line)]: the rendering clouds the camera's Clip End cuts off (checks.clip_range)."""
-    clouds = [o for o in scene.objects if cloud_object.is_cloud(o)
-              and (o.get(volume_object.SOURCE_KEY, "PROCEDURAL") == "BAKED" or not o.hide_render)]
+    clouds = [o for o in scene.objects if cloud_object.is_cloud(o) and checks.renders(o)]
     return [(o, line) for o, line in ((o, checks.clip_range(scene, o)) for o in clouds) if line is not None]
 
 

@@ -162,6 +162,10 @@ def test_clip_end_said_and_fixed(addon, scene, cloud):
             assert f"{cloud.name} is cut off" in lines[0] and f"at least {far:.0f} m" in lines[0], lines
     found = [f for _, f in addon.light_setup.dark_settings(scene) if f == "CLIP_END"]
     assert found == ["CLIP_END"], addon.light_setup.dark_settings(scene)
+    cloud.hide_render = True  # a cloud that does not render is not cut off: neither place says so
+    assert not [w for w in _lines(addon, scene)[1] if "Clip End" in w]
+    assert not [f for _, f in addon.light_setup.dark_settings(scene) if f == "CLIP_END"]
+    cloud.hide_render = False
     assert bpy.ops.cloudgen.fix_dark(what="CLIP_END") == {"FINISHED"}
     assert cam.data.clip_end == pytest.approx(1.05 * far, rel=1e-5), (cam.data.clip_end, far)
     assert not [w for w in _lines(addon, scene)[1] if "Clip End" in w]
