@@ -1,5 +1,6 @@
 """Light that makes clouds look like clouds: the "Cloud Sky & Sun" operator (a physical sky,
-a matched sun, AgX, exposure, cloud render settings; addon/sky_light.py does the sky), and
+a matched sun, AgX, exposure, cloud render settings; addon/sky_light.py does the sky), "Meter
+Exposure" (a camera's meter: addon/exposure_meter.py), and
 the sidebar's check of the settings that make clouds dark in an artist's own scene, each with
 its fix. The artist's own lights are never touched unless they press Cloud Sky & Sun."""
 import math
@@ -7,7 +8,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from . import checks, cloud_object, landscape, operators, sky_light, volume_material, volume_object
+from . import checks, cloud_object, exposure_meter, landscape, operators, sky_light, volume_material, volume_object
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
@@ -166,9 +167,58 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def metered_exposure(sun, light):
+    """(exposure, stops of glare compensation) for a frame whose meter reads `light` (scene-linear,
+    exposure_meter.frame_luminance) under the Sun lamp `sun`: the exposure for the lamp's light
+    (sky_light.exposure_for_irradiance), taken down as the gallery takes a frame with the sun's
+    glow in it (exposure_meter.glare_compensation). The reading is scaled to the sky's own sun at
+    the lamp's height first, as the bound was measured under it: an artist's sun twice as strong
+    reads twice the light and gets the same compensation."""
+    rgb = tuple(sun.data.energy * c for c in sun.data.color)
+    up = (sun.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized().z  # toward the sun
+    elevation = max(math.degrees(math.asin(max(min(up, 1.0), -1.0))), 2.0)
+    scale = sky_light.luminance(sky_light.sun_irradiance(elevation)) / max(sky_light.luminance(rgb), 1e-6)
+    stops = exposure_meter.glare_compensation(light * scale)
+    return sky_light.exposure_for_irradiance(rgb) + stops, stops
+
+
+class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
+    """Set the exposure as a camera's meter would, from a small test render (96 x 54): the
+    exposure for the sun lamp's light, taken down when the sun's glow fills the frame (a view
+    toward the sun through a veil, where the 22° halo would otherwise burn out)"""
+    bl_idname = "cloudgen.meter_exposure"
+    bl_label = "Meter Exposure"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        scene = context.scene
+        sun = volume_material.scene_sun(scene)
+        if sun is None or sun.data.energy <= 0.0:
+            self.report({"ERROR"}, "Meter Exposure needs a Sun lamp that renders (Cloud Sky & Sun adds one)")
+            return {"CANCELLED"}
+        if scene.camera is None:
+            self.report({"ERROR"}, "Meter Exposure needs a scene camera")
+            return {"CANCELLED"}
+        context.view_layer.update()
+        before = scene.view_settings.exposure
+        try:
+            light = exposure_meter.frame_luminance(scene)
+        except RuntimeError as exc:
+            self.report({"ERROR"}, f"Meter Exposure: {exc}")
+            return {"CANCELLED"}
+        scene.view_settings.exposure, stops = metered_exposure(sun, light)
+        if getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", 0.0) > 0.0:  # kept relative (0: off)
+            scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
+        glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 else ""
+        self.report({"INFO"}, f"Metered {light:.3g}: exposure {before:+.2f} -> {scene.view_settings.exposure:+.2f}"
+                              + glare)
+        return {"FINISHED"}
+
+
 def draw(layout, context):
-    """The sidebar's light section: the operator and what in this scene makes clouds dark."""
+    """The sidebar's light section: the operators and what in this scene makes clouds dark."""
     layout.operator(CLOUDGEN_OT_sky_setup.bl_idname, icon="LIGHT_SUN")
+    layout.operator(CLOUDGEN_OT_meter_exposure.bl_idname, icon="CAMERA_DATA")
     for text, fix in dark_settings(context.scene):
         row = layout.row()
         wrapped_label(row.column(), text, "ERROR", context)
@@ -176,4 +226,4 @@ def draw(layout, context):
             row.operator(CLOUDGEN_OT_fix_dark.bl_idname, text="Fix").what = fix
 
 
-classes = (CLOUDGEN_OT_fix_dark, CLOUDGEN_OT_sky_setup)
+classes = (CLOUDGEN_OT_fix_dark, CLOUDGEN_OT_sky_setup, CLOUDGEN_OT_meter_exposure)

@@ -89,7 +89,13 @@ def exposure_for(elevation_deg: float) -> float:
     40 km haze 177/221/225/192; MIDDLE 3 with 80 km haze (landscape.VISIBILITY_KM)
     129/196/203/139. A low sun gets a longer exposure, as a camera would; the floor keeps a
     set sun from blowing up the sky."""
-    lum = max(luminance(sun_irradiance(max(elevation_deg, 2.0))), 1e-3)
+    return exposure_for_irradiance(sun_irradiance(max(elevation_deg, 2.0)))
+
+
+def exposure_for_irradiance(rgb) -> float:
+    """exposure_for's rule for a sun lamp of irradiance `rgb` (its colour times its strength):
+    an artist's own sun, brighter or dimmer than the sky's, gets the exposure for its light."""
+    lum = max(luminance(rgb), 1e-3)
     return math.log2(MIDDLE * math.pi / ((1.0 + SKY_SHARE) * lum))
 
 

@@ -23,7 +23,7 @@ The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
-grey overcasts the camera is balanced and exposed for the overcast's own light (frame_luminance());
+grey overcasts the camera is balanced and exposed for the overcast's own light (exposure_meter.frame_luminance());
 a sunlit frame with the sun's glare in it is exposed down to GLARE_LIGHT.
 Each PNG render also gets its camera finish, NN.jpg (vignetting, sensor grain, in-camera
 sharpening, JPEG: scripts/camera_finish.py; --no-finish: none); measure on the PNG.
@@ -46,6 +46,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "osl"))
 import camera_finish  # noqa: E402
 import gallery_scene as gs  # noqa: E402
+import render_cloud  # noqa: E402
 
 SUNS = {"low": (25.0, 120.0), "high": (60.0, 150.0)}
 # veils are told apart by the sun seen through them ("as through ground glass", altostratus; a
@@ -80,17 +81,14 @@ OVERCAST_BALANCE_K = 5700.0
 # out at display levels 18-48, near black, its rain streaks invisible (320x180 test)
 OVERCAST_KEY = 0.12
 # the camera's auto-ISO (scripts/camera_finish.py) reads the same meter: its ISO 100 at
-# SUNNY_LIGHT, the median frame luminance of the round-15 gallery's twelve sunlit frames without
-# the sun's glow in them (2.15-4.71; with it, 9.2-43: cirrus and stratocumulus 9, the veils' sun
-# in view 6-43). The overcasts read 0.50 (nimbostratus side-on: ISO 640), 2.5-6.1 (the rest)
-SUNNY_LIGHT = 3.2
-# a sunlit frame with the sun's glow in it (the veils toward the sun read 44-58 in round 17) is metered down to
-# GLARE_LIGHT, twice a sunny frame's light, as a camera's meter would take it down: exposed like
-# a sunny frame the cirrostratus's whole 22° halo sat in AgX's shoulder (240-250 of 255) and two
-# reviewers read the ring as the edge of "a hard-edged disc" (round 16); at -2.5 EV (320x180)
-# the ring stood out against a darker inside around a bright sun, as in a photograph of a halo
-GLARE_LIGHT = 2.0 * SUNNY_LIGHT
-METER_SIZE, METER_SAMPLES = (96, 54), 4
+# The camera's meter (addon/exposure_meter.py, shared with the add-on's Meter Exposure):
+# SUNNY_LIGHT, the median frame luminance of the round-15 gallery's sunlit frames without the
+# sun's glow (2.15-4.71); a sunlit frame metered above GLARE_LIGHT (twice that) is exposed down
+# to it: the veils toward the sun read 44-58 (round 17), and exposed like a sunny frame the
+# cirrostratus's whole 22° halo sat in AgX's shoulder (round 16: "a hard-edged disc")
+meter = render_cloud._addon_file("exposure_meter")
+SUNNY_LIGHT, GLARE_LIGHT = meter.SUNNY_LIGHT, meter.GLARE_LIGHT
+glare_compensation = meter.glare_compensation
 # a compact cloud side-on under the low sun is lit from the side (90° from the view), as a
 # photographer would choose: one flank sunlit, the other in its own shade
 SIDE_LIT_AZIMUTH = 90.0
@@ -112,41 +110,6 @@ def sun_direction(name, view, sun, compact):
     if view == "side" and sun == "low":
         azimuth = SIDE_LIT_AZIMUTH if compact else SUN_AHEAD.get(name, azimuth)
     return elevation, azimuth
-
-
-def frame_luminance(scene, render_cloud):
-    """The frame's mean scene-linear luminance (Rec.709) at film exposure 0: a METER_SIZE render
-    at METER_SAMPLES spp, not denoised, to EXR (scene-linear: no view transform). The scene's
-    resolution, samples, exposure and output format are restored."""
-    import bpy
-    import numpy as np
-
-    r, c, im = scene.render, scene.cycles, scene.render.image_settings
-    saved = (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
-             im.file_format, im.color_depth, scene.view_settings.exposure)
-    scene.view_settings.exposure = 0.0  # the light itself (EXR is written before the view transform)
-    r.resolution_x, r.resolution_y = METER_SIZE
-    r.resolution_percentage, c.samples, c.use_denoising = 100, METER_SAMPLES, False
-    try:
-        with tempfile.TemporaryDirectory(prefix="cloudgen-meter-") as tmp:
-            path = os.path.join(tmp, "meter.exr")
-            render_cloud.render(scene, path)
-            img = bpy.data.images.load(path)
-            px = np.array(img.pixels[:], dtype=np.float64).reshape(-1, 4)[:, :3]
-            bpy.data.images.remove(img)
-    finally:
-        (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
-         im.file_format) = saved[:6]
-        im.color_depth, scene.view_settings.exposure = saved[6:]
-    if not np.isfinite(px).all():
-        raise RuntimeError("gallery: the meter's render holds NaN or Inf")
-    return max(float((px @ np.array([0.2126, 0.7152, 0.0722])).mean()), 1e-6)
-
-
-def glare_compensation(light: float) -> float:
-    """Stops added to a sunlit frame's exposure for its metered light: 0 up to GLARE_LIGHT,
-    then down to GLARE_LIGHT."""
-    return -max(math.log2(light / GLARE_LIGHT), 0.0)
 
 
 def parse_args(argv):
@@ -214,7 +177,6 @@ def bake_all(name, values, work, args):
 
 def shot(name, view, sun, values, baked, out_png, args):
     import bpy
-    import render_cloud
     from mathutils import Vector
 
     main_vdb = baked["main"] if "main" in baked else baked["levels"][0][0]
@@ -279,7 +241,7 @@ def shot(name, view, sun, values, baked, out_png, args):
         box = rain.rain_box(values, centre, cn.density,
                             half=ls.units(ls.TERRAIN_HALF_KM) if gs.is_layer(values) else None)
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
-    light = frame_luminance(scene, render_cloud)  # what a camera's meter reads: auto-ISO, exposure
+    light = meter.frame_luminance(scene)  # what a camera's meter reads: auto-ISO, exposure
     if name in gs.OVERCAST:
         scene.view_settings.exposure = math.log2(OVERCAST_KEY / light)
         print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)

@@ -1,0 +1,71 @@
+"""Meter Exposure (addon/light_setup.py, addon/exposure_meter.py) in the 4.5 wheel: the exposure
+a camera's meter would give, from a 96 x 54 test render.
+
+The frame is a uniform white world of radiance S (the camera looks down, away from the sun
+lamp), so the meter reads S (Cycles samples a constant background exactly; tolerance 0.02 stops
+as in tests/blender/test_gallery_meter.py). With the add-on's sun at 40°: up to GLARE_LIGHT the
+exposure is sky_light.exposure_for(40) (0.02 stops); at S = 4 x GLARE_LIGHT two stops less. An
+artist's sun twice as strong: one stop less for its light, and the same two stops for a frame
+twice as bright. Without a sun lamp: a clear error, nothing changed. The scene's render settings
+come back as they were."""
+import math
+
+import pytest
+
+STOPS = 0.02  # the meter's tolerance, stops
+
+
+def _uniform_world(scene, radiance):
+    import bpy
+
+    world = bpy.data.worlds.new("White")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bg.inputs["Strength"].default_value = radiance
+    scene.world = world
+
+
+def _camera_looking_down(scene):
+    import bpy
+
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))  # a new camera looks along -Z
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+
+
+def _settings(scene):
+    r = scene.render
+    return (r.resolution_x, r.resolution_y, r.resolution_percentage, scene.cycles.samples,
+            scene.cycles.use_denoising, r.image_settings.file_format, r.filepath)
+
+
+@pytest.mark.parametrize("glare,strength", [(0.25, 1.0), (4.0, 1.0), (4.0, 2.0)],
+                         ids=["sunny", "glare", "glare-artist-sun"])
+def test_meter_exposure(addon, scene, glare, strength):
+    import bpy
+
+    sl, meter = addon.sky_light, addon.exposure_meter
+    _camera_looking_down(scene)
+    sun = sl.make_sun(scene, 40.0, 0.0)
+    sun.data.energy *= strength
+    radiance = glare * meter.GLARE_LIGHT * strength
+    _uniform_world(scene, radiance)
+    scene.render.filepath = "//keep_me_"
+    before = _settings(scene)
+    assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
+    assert _settings(scene) == before
+    want = sl.exposure_for(40.0) - math.log2(strength) - max(math.log2(glare), 0.0)
+    got = scene.view_settings.exposure
+    assert abs(got - want) < STOPS, f"S {radiance:g}, sun x{strength:g}: exposure {got:.4f}, want {want:.4f}"
+
+
+def test_meter_exposure_needs_a_sun(addon, scene):
+    import bpy
+
+    _camera_looking_down(scene)
+    _uniform_world(scene, 1.0)
+    scene.view_settings.exposure = 1.25
+    with pytest.raises(RuntimeError, match="needs a Sun lamp"):
+        bpy.ops.cloudgen.meter_exposure()
+    assert scene.view_settings.exposure == 1.25
