@@ -38,3 +38,21 @@ def pytest_collection_modifyitems(config, items):
     skip = pytest.mark.skip(reason="bpy (Blender as a Python module) is not installed")
     for item in targets:
         item.add_marker(skip)
+
+
+@pytest.fixture
+def uniform_world():
+    """make(scene, radiance): gives the scene a uniform white world of that radiance, which a
+    light meter reads exactly (Cycles samples a constant background without noise)."""
+    def make(scene, radiance):
+        import bpy
+
+        world = bpy.data.worlds.new("White")
+        world.use_nodes = True
+        bg = world.node_tree.nodes["Background"]
+        bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        bg.inputs["Strength"].default_value = radiance
+        scene.world = world
+        return world
+
+    return make

@@ -15,17 +15,6 @@ import pytest
 STOPS = 0.02  # the meter's tolerance, stops
 
 
-def _uniform_world(scene, radiance):
-    import bpy
-
-    world = bpy.data.worlds.new("White")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bg.inputs["Strength"].default_value = radiance
-    scene.world = world
-
-
 def _camera_looking_down(scene):
     import bpy
 
@@ -42,7 +31,7 @@ def _settings(scene):
 
 @pytest.mark.parametrize("glare,strength", [(0.25, 1.0), (4.0, 1.0), (4.0, 2.0)],
                          ids=["sunny", "glare", "glare-artist-sun"])
-def test_meter_exposure(addon, scene, glare, strength):
+def test_meter_exposure(addon, scene, uniform_world, glare, strength):
     import bpy
 
     sl, meter = addon.sky_light, addon.exposure_meter
@@ -50,7 +39,7 @@ def test_meter_exposure(addon, scene, glare, strength):
     sun = sl.make_sun(scene, 40.0, 0.0)
     sun.data.energy *= strength
     radiance = glare * meter.GLARE_LIGHT * strength
-    _uniform_world(scene, radiance)
+    uniform_world(scene, radiance)
     scene.render.filepath = "//keep_me_"
     before = _settings(scene)
     assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
@@ -60,11 +49,11 @@ def test_meter_exposure(addon, scene, glare, strength):
     assert abs(got - want) < STOPS, f"S {radiance:g}, sun x{strength:g}: exposure {got:.4f}, want {want:.4f}"
 
 
-def test_meter_exposure_needs_a_sun(addon, scene):
+def test_meter_exposure_needs_a_sun(addon, scene, uniform_world):
     import bpy
 
     _camera_looking_down(scene)
-    _uniform_world(scene, 1.0)
+    uniform_world(scene, 1.0)
     scene.view_settings.exposure = 1.25
     with pytest.raises(RuntimeError, match="needs a Sun lamp"):
         bpy.ops.cloudgen.meter_exposure()

@@ -15,17 +15,12 @@ sys.path.insert(0, str(ROOT / "scripts"))
 
 
 @pytest.mark.parametrize("radiance", [0.05, 0.5, 4.0])
-def test_meter_reads_the_light_at_any_exposure(empty_scene, radiance):
+def test_meter_reads_the_light_at_any_exposure(empty_scene, uniform_world, radiance):
     import bpy
     import render_cloud
 
     scene = empty_scene
-    world = bpy.data.worlds.new("Grey")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bg.inputs["Strength"].default_value = radiance
-    scene.world = world
+    uniform_world(scene, radiance)
     cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
     scene.collection.objects.link(cam)
     scene.camera = cam
