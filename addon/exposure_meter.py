@@ -1,6 +1,6 @@
 """A camera's averaging meter for cloud frames: the frame's mean scene-linear luminance from a
-small test render, and the rule that takes a frame with the sun's glow in it down to the light
-of a sunny frame's twice. Used by the add-on's Meter Exposure (light_setup.py) and by the
+small test render, and the rule that takes a frame with the sun's glow in it down to twice a
+sunny frame's light. Used by the add-on's Meter Exposure (light_setup.py) and by the
 gallery (scripts/gallery.py); imports none of the add-on's other modules (the gallery loads it
 by its path). docs/lighting.md has the measurements.
 

@@ -1,5 +1,5 @@
 """Where a point bake samples its voxels, and with what weight: the core's rule
-(native/src/grid.cpp, docs/camera.md "thin layers") in numpy, for the add-on's own bake
+(native/src/grid.cpp; docs/camera.md, "Box-filtered bakes") in numpy, for the add-on's own bake
 (bake_local.py) and its 3D proxy (proxy_grid.py). No bpy here.
 
 The grid of `cloudgen_native.bake_plan` may overhang the cloud's box by less than a voxel
@@ -7,9 +7,10 @@ on a side, and a layer thinner than a voxel (a cirrostratus at Draft) lies insid
 The density is 0 outside the box, so a cell is sampled at its centre when it lies inside
 the box; where it overhangs it (per axis), at the centre of its part inside the box, and
 the value is weighted by that part's share of the cell. The cell's mean is kept: sampled at
-its centre, a 0.5-unit veil in a 2.3-unit voxel became a whole voxel thick (4.7x its
-column). The rule is separable, so it is computed per axis: float32 throughout, in the
-core's order of operations, so the values equal the CLI's bit for bit.
+its centre, a 0.5-unit veil in a 2.34-unit voxel became a whole voxel thick, its columns
+summing to 5.6x the reference (now 1.19x; a cirrostratus at resolution 128, measured). The
+rule is separable, so it is computed per axis: float32 throughout, in the core's order of
+operations, so the values equal the CLI's bit for bit.
 """
 from __future__ import annotations
 

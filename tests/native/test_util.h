@@ -123,7 +123,7 @@ inline std::vector<float> to_dense(const cg::BakeResult& r) {
 // What a point-sampled bake (supersample 1) holds at voxel (i, j, k), stated apart from the
 // bake's code: the density at the voxel's centre; where the cell overhangs the model's box
 // (the density is 0 outside it), the density at the centre of the cell's part inside the box
-// times that part's share of the cell (docs/camera.md, "thin layers").
+// times that part's share of the cell (docs/camera.md, "Box-filtered bakes").
 inline float point_bake_value(const cg::Model& m, const cg::GridSpec& g, int i, int j, int k, const cg::Lod& lod) {
   const cg::vec3 c = g.centre(i, j, k);
   cg::vec3 p = c;
