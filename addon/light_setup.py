@@ -174,9 +174,8 @@ def metered_exposure(sun, light):
     glow in it (exposure_meter.glare_compensation). The reading is scaled to the sky's own sun at
     the lamp's height first, as the bound was measured under it: an artist's sun twice as strong
     reads twice the light and gets the same compensation."""
-    rgb = tuple(sun.data.energy * c for c in sun.data.color)
-    up = (sun.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized().z  # toward the sun
-    elevation = max(math.degrees(math.asin(max(min(up, 1.0), -1.0))), 2.0)
+    toward, rgb = volume_material.sun_light(sun)
+    elevation = max(math.degrees(math.asin(max(min(toward[2], 1.0), -1.0))), 2.0)
     scale = sky_light.luminance(sky_light.sun_irradiance(elevation)) / max(sky_light.luminance(rgb), 1e-6)
     stops = exposure_meter.glare_compensation(light * scale)
     return sky_light.exposure_for_irradiance(rgb) + stops, stops

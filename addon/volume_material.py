@@ -240,17 +240,20 @@ def scene_sun(scene):
     return None
 
 
-def point_halos(scene) -> int:
-    """Point every material's halo at the scene's sun (scene_sun): its +Z axis (a sun lamp
-    shines along -Z), its colour times its strength (W/m²). Without a sun the halos go dark.
-    Returns how many materials have a halo."""
+def sun_light(sun):
+    """(direction, rgb) of a Sun lamp: the unit vector toward the sun (its +Z axis; a sun lamp
+    shines along -Z) and its irradiance, colour times strength (W/m², linear RGB). From
+    matrix_basis: current even before the depsgraph updated matrix_world."""
     from mathutils import Matrix, Vector
 
+    world = (sun.parent.matrix_world if sun.parent else Matrix()) @ sun.matrix_basis
+    direction = tuple((world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized())
+    return direction, tuple(sun.data.energy * c for c in sun.data.color)
+
+
+def point_halos(scene) -> int:
+    """Point every material's halo at the scene's sun (scene_sun, sun_light). Without a sun the
+    halos go dark. Returns how many materials have a halo."""
     sun = scene_sun(scene)
-    if sun is None:
-        direction, rgb = (0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
-    else:  # matrix_basis: current even before the depsgraph updated matrix_world
-        world = (sun.parent.matrix_world if sun.parent else Matrix()) @ sun.matrix_basis
-        direction = tuple(world.to_3x3() @ Vector((0.0, 0.0, 1.0)))
-        rgb = tuple(sun.data.energy * c for c in sun.data.color)
+    direction, rgb = ((0.0, 0.0, 1.0), (0.0, 0.0, 0.0)) if sun is None else sun_light(sun)
     return sum(set_halo_sun(mat, direction, rgb) for mat in bpy.data.materials)
