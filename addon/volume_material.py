@@ -9,9 +9,11 @@ by its path.
     volume_material(mat, look, grid="density")             # a VDB: reads its grid
 
 The shader, node "Cloud Volume" → "Material Output".Volume:
-- phase "AUTO": Volume Scatter with the Mie phase where Cycles has it (4.3+:
-  cloud droplets, MIE_DIAMETER_UM), else Principled Volume (Henyey–Greenstein
-  with the look's anisotropy); phase "HG": always Principled Volume.
+- phase "AUTO": where Cycles has them (4.3+) a Volume Scatter, with the Mie phase
+  (cloud droplets, MIE_DIAMETER_UM), or for a look with "backscatter" (the ice veils)
+  the Fournier-Forand phase with ice's ICE_IOR and that backscatter fraction; else
+  Principled Volume (Henyey–Greenstein with the look's anisotropy); phase "HG":
+  always Principled Volume.
 - like: an existing volume node (the cloud's own "Cloud Volume") whose type,
   phase and unlinked input values are copied — a baked cloud looks as the
   procedural one, edits included.
@@ -45,6 +47,13 @@ DEFAULT_COLOR = (1.0, 1.0, 1.0)
 DEFAULT_ANISOTROPY = 0.3
 DEFAULT_STEP_RATE = 0.2      # procedural: the presets' default (cirrus types say 0.5)
 MIE_DIAMETER_UM = 20.0       # droplet diameter of the Mie phase, micrometres (cumulus droplets)
+# Ice veils: Fournier-Forand's phase (Cycles' FOURNIER_FORAND) for particles of ice's refractive
+# index, 1.31 (the halo's 1.3087-1.3146 below), and a look's "backscatter" fraction B. At B 0.02
+# it puts 65 % of the scattered light within 5° of the sun (ice crystals of 50-100 µm diffract
+# within about 1°), falls to 0.21/sr at 18° (Mie of 20 µm droplets: about 0.5) and g is 0.93
+# (docs/lighting.md): the veil inside the 22° ring is darker than the ring, as in a real halo
+# (no light is refracted by less than 22°), where Mie's droplets lit it brighter than the ring.
+ICE_IOR = 1.31
 VOLUME_NODE = "Cloud Volume"
 GRID_NODE = "Density Grid"
 HALO_SUN, HALO_IRRADIANCE, HALO_DENSITY = "Halo Sun", "Halo Irradiance", "Halo Density"
@@ -68,10 +77,22 @@ HALO_SKIRT_DEG, HALO_SKIRT_SHARE = 8.0, 0.35   # the skirt's width and its share
 HALO_PEAK_PER_SR = 0.15
 
 
+def scatter_phases() -> set:
+    """The phases of Cycles' Volume Scatter (Blender 4.3+: HENYEY_GREENSTEIN, FOURNIER_FORAND,
+    DRAINE, RAYLEIGH, MIE; earlier: none to choose)."""
+    rna = bpy.types.ShaderNodeVolumeScatter.bl_rna.properties
+    return {i.identifier for i in rna["phase"].enum_items} if "phase" in rna else set()
+
+
 def mie_available() -> bool:
     """Cycles' Volume Scatter has the Mie phase (Blender 4.3+)."""
-    rna = bpy.types.ShaderNodeVolumeScatter.bl_rna.properties
-    return "phase" in rna and "MIE" in {i.identifier for i in rna["phase"].enum_items}
+    return "MIE" in scatter_phases()
+
+
+def auto_phase(look: dict) -> str:
+    """The Volume Scatter phase that phase "AUTO" gives this look, "" for a Principled Volume."""
+    want = "FOURNIER_FORAND" if "backscatter" in look else "MIE"
+    return want if want in scatter_phases() else ""
 
 
 def _new_shader(nt, look, phase, like):
@@ -84,10 +105,15 @@ def _new_shader(nt, look, phase, like):
                     and sock.name in node.inputs:
                 node.inputs[sock.name].default_value = sock.default_value
         return node
-    if phase == "AUTO" and mie_available():
+    scatter = auto_phase(look) if phase == "AUTO" else ""
+    if scatter:
         node = nt.nodes.new("ShaderNodeVolumeScatter")
-        node.phase = "MIE"
-        node.inputs["Diameter"].default_value = MIE_DIAMETER_UM
+        node.phase = scatter
+        if scatter == "MIE":
+            node.inputs["Diameter"].default_value = MIE_DIAMETER_UM
+        else:
+            node.inputs["IOR"].default_value = ICE_IOR
+            node.inputs["Backscatter"].default_value = float(look["backscatter"])
     else:
         node = nt.nodes.new("ShaderNodeVolumePrincipled")
         node.inputs["Anisotropy"].default_value = float(look.get("anisotropy", DEFAULT_ANISOTROPY))
@@ -102,7 +128,7 @@ def procedural_step_rate(look: dict) -> float:
 
 def volume_material(mat, look: dict, grid=None, phase="AUTO", like=None, step_rate=None):
     """Clear mat's node tree and build the volume shader in it; returns the "Cloud Volume" node.
-    look: the preset's "material" (color, anisotropy, step_rate); grid: None for a procedural
+    look: the preset's "material" (color, anisotropy, step_rate, halo, backscatter); grid: None for a procedural
     material (the caller links the density into the node's Density), else the grid's name."""
     if phase not in ("AUTO", "HG"):
         raise ValueError(f"phase must be AUTO or HG, not {phase!r}")

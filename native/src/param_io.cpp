@@ -68,6 +68,9 @@ constexpr MaterialDecl kMaterial[] = {
     {"color", 3, 0.0, 1.0},
     {"step_rate", 1, 0.01, 100.0},
     {"halo", 1, 0.0, 10.0},  // the 22-degree ice halo's strength, 1 = addon/volume_material.py's HALO_PEAK_PER_SR
+    // ice veils: the Fournier-Forand phase's backscatter fraction (addon/volume_material.py's
+    // ICE_IOR); Cycles clamps it below 0.5, and at 0 the phase is a delta
+    {"backscatter", 1, 0.001, 0.49},
 };
 
 std::string shortest(double v) {

@@ -41,8 +41,12 @@ def test_add_cloud_renders_and_previews(addon, scene, cloud_type, tmp_path):
     vol = obj.active_material.node_tree.nodes["Cloud Volume"]
     look = cn.presets()[cloud_type].get("material", {})
     assert tuple(vol.inputs["Color"].default_value)[:3] == pytest.approx(tuple(look.get("color", (1, 1, 1))))
-    if addon.volume_material.mie_available():
-        assert vol.bl_idname == "ShaderNodeVolumeScatter" and vol.phase == "MIE"
+    if addon.volume_material.mie_available():  # 4.3+: droplets Mie, ice veils Fournier-Forand
+        want = "FOURNIER_FORAND" if "backscatter" in look else "MIE"
+        assert vol.bl_idname == "ShaderNodeVolumeScatter" and vol.phase == want, (cloud_type, vol.phase)
+        if want == "FOURNIER_FORAND":
+            assert vol.inputs["Backscatter"].default_value == pytest.approx(look["backscatter"])
+            assert vol.inputs["IOR"].default_value == pytest.approx(addon.volume_material.ICE_IOR)
     else:
         assert vol.inputs["Anisotropy"].default_value == pytest.approx(look.get("anisotropy", 0.3))
 

@@ -154,6 +154,8 @@ TEST(Params, PresetMaterials) {
   expect_param_error(parse(R"({"color": [1, 1]})"), {"'color'", "3 numbers"}, "short colour");
   expect_param_error(parse(R"({"halo": -0.5})"), {"'halo'", "[0, 10]"}, "negative halo");
   EXPECT_EQ(cg::parse_presets(R"({"x": {"params": {}, "material": {"halo": 1}}})").at(0).material.at(0).key, "halo");
+  expect_param_error(parse(R"({"backscatter": 0})"), {"'backscatter'", "[0.001, 0.49]"}, "backscatter 0: a delta");
+  expect_param_error(parse(R"({"backscatter": 0.5})"), {"'backscatter'", "[0.001, 0.49]"}, "backscatter 0.5");
   expect_param_error(parse(R"({"color": [1, "1", 1]})"), {"'color'", "3 numbers"}, "colour with text");
   expect_param_error(parse(R"([1])"), {"'material' must be an object"}, "not an object");
   expect_param_error([] { cg::parse_presets(R"({"x": {"params": {}, "shader": {}}})"); }, {"unknown key 'shader'"},
