@@ -30,35 +30,57 @@ def glare_compensation(light: float) -> float:
     return -max(math.log2(light / GLARE_LIGHT), 0.0)
 
 
-def frame_luminance(scene) -> float:
-    """The frame's mean scene-linear luminance (Rec.709) at film exposure 0: a METER_SIZE render
-    at METER_SAMPLES spp, not denoised, to an EXR in a private temporary folder (scene-linear: no
-    view transform). The scene's resolution, samples, denoising, exposure, output path and
-    format come back as they were, also when the render fails. Raises RuntimeError when the
-    render holds NaN or Inf."""
-    import bpy  # noqa: PLC0415 - the rule and the constants load without Blender (the gallery's tests)
-    import numpy as np  # noqa: PLC0415
-
+def meter_settings(scene, path):
+    """Set the scene up for the meter's render to `path` (an EXR): METER_SIZE, METER_SAMPLES spp,
+    not denoised, film exposure 0 (the light itself: the EXR is scene-linear). Returns what
+    restore_settings() puts back: resolution, samples, denoising, format, exposure, output path."""
     r, c, im = scene.render, scene.cycles, scene.render.image_settings
     saved = (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
              im.file_format, im.color_depth, scene.view_settings.exposure, r.filepath)
+    scene.view_settings.exposure = 0.0
+    r.resolution_x, r.resolution_y = METER_SIZE
+    r.resolution_percentage, c.samples, c.use_denoising = 100, METER_SAMPLES, False
+    im.file_format, im.color_depth = "OPEN_EXR", "32"
+    r.filepath = path
+    return saved
+
+
+def restore_settings(scene, saved):
+    """Put back what meter_settings() changed."""
+    r, c, im = scene.render, scene.cycles, scene.render.image_settings
+    (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
+     im.file_format) = saved[:6]
+    im.color_depth, scene.view_settings.exposure, r.filepath = saved[6:]
+
+
+def read_luminance(path) -> float:
+    """The mean scene-linear luminance (Rec.709) of the meter's EXR at `path`; RuntimeError when
+    it holds NaN or Inf. The image is loaded and removed again."""
+    import bpy  # noqa: PLC0415 - the rule and the constants load without Blender (the gallery's tests)
+    import numpy as np  # noqa: PLC0415
+
+    img = bpy.data.images.load(path)
     try:
-        with tempfile.TemporaryDirectory(prefix="cloudgen-meter-") as tmp:
-            scene.view_settings.exposure = 0.0  # the light itself (the EXR is scene-linear)
-            r.resolution_x, r.resolution_y = METER_SIZE
-            r.resolution_percentage, c.samples, c.use_denoising = 100, METER_SAMPLES, False
-            im.file_format, im.color_depth = "OPEN_EXR", "32"
-            r.filepath = os.path.join(tmp, "meter.exr")
-            bpy.ops.render.render(write_still=True)
-            img = bpy.data.images.load(r.filepath)
-            try:
-                px = np.array(img.pixels[:], dtype=np.float64).reshape(-1, 4)[:, :3]
-            finally:
-                bpy.data.images.remove(img)
+        px = np.array(img.pixels[:], dtype=np.float64).reshape(-1, 4)[:, :3]
     finally:
-        (r.resolution_x, r.resolution_y, r.resolution_percentage, c.samples, c.use_denoising,
-         im.file_format) = saved[:6]
-        im.color_depth, scene.view_settings.exposure, r.filepath = saved[6:]
+        bpy.data.images.remove(img)
     if not np.isfinite(px).all():
         raise RuntimeError("the meter's render holds NaN or Inf")
     return max(float((px @ np.array([0.2126, 0.7152, 0.0722])).mean()), 1e-6)
+
+
+def frame_luminance(scene) -> float:
+    """The frame's mean scene-linear luminance at film exposure 0, rendered here and now (it blocks
+    until done; the add-on's Meter Exposure renders as a job instead, with progress and Esc): the
+    meter's render (meter_settings) to an EXR in a private temporary folder, read by
+    read_luminance. The scene's settings come back as they were, also when the render fails."""
+    import bpy  # noqa: PLC0415
+
+    with tempfile.TemporaryDirectory(prefix="cloudgen-meter-") as tmp:
+        path = os.path.join(tmp, "meter.exr")
+        saved = meter_settings(scene, path)
+        try:
+            bpy.ops.render.render(write_still=True)
+        finally:
+            restore_settings(scene, saved)
+        return read_luminance(path)

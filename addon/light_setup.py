@@ -4,6 +4,9 @@ Exposure" (a camera's meter: addon/exposure_meter.py), and
 the sidebar's check of the settings that make clouds dark in an artist's own scene, each with
 its fix. The artist's own lights are never touched unless they press Cloud Sky & Sun."""
 import math
+import os
+import shutil
+import tempfile
 
 import bpy
 from mathutils import Vector
@@ -189,14 +192,34 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     bl_label = "Meter Exposure"
     bl_options = {"REGISTER", "UNDO"}
 
-    def execute(self, context):
-        scene = context.scene
+    # From the sidebar (invoke, a window): the meter renders as Blender's render job — progress
+    # in the status bar, Esc cancels and leaves the exposure as it was — and the operator waits
+    # for it on a timer. From scripts and `blender -b` (execute): rendered there and then.
+    POLL_SECONDS = 0.1
+    FILE_WAIT_SECONDS = 10.0  # after the job's completion, for its EXR to appear
+
+    def _sun(self, scene):
         sun = volume_material.scene_sun(scene)
         if sun is None or sun.data.energy <= 0.0:
             self.report({"ERROR"}, "Meter Exposure needs a Sun lamp that renders (Cloud Sky & Sun adds one)")
-            return {"CANCELLED"}
+            return None
         if scene.camera is None:
             self.report({"ERROR"}, "Meter Exposure needs a scene camera")
+            return None
+        return sun
+
+    def _apply(self, scene, sun, light, before):
+        scene.view_settings.exposure, stops = metered_exposure(sun, light)
+        if getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", 0.0) > 0.0:  # kept relative (0: off)
+            scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
+        glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 else ""
+        self.report({"INFO"}, f"Metered {light:.3g}: exposure {before:+.2f} -> {scene.view_settings.exposure:+.2f}"
+                              + glare)
+
+    def execute(self, context):
+        scene = context.scene
+        sun = self._sun(scene)
+        if sun is None:
             return {"CANCELLED"}
         context.view_layer.update()
         before = scene.view_settings.exposure
@@ -205,13 +228,82 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
         except RuntimeError as exc:
             self.report({"ERROR"}, f"Meter Exposure: {exc}")
             return {"CANCELLED"}
-        scene.view_settings.exposure, stops = metered_exposure(sun, light)
-        if getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", 0.0) > 0.0:  # kept relative (0: off)
-            scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
-        glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 else ""
-        self.report({"INFO"}, f"Metered {light:.3g}: exposure {before:+.2f} -> {scene.view_settings.exposure:+.2f}"
-                              + glare)
+        self._apply(scene, sun, light, before)
         return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        scene = context.scene
+        if self._sun(scene) is None:
+            return {"CANCELLED"}
+        context.view_layer.update()
+        self._scene_name, self._before = scene.name, scene.view_settings.exposure
+        self._tmp = tempfile.mkdtemp(prefix="cloudgen-meter-")
+        self._path = os.path.join(self._tmp, "meter.exr")
+        self._saved = exposure_meter.meter_settings(scene, self._path)
+        self._ended, self._waited, self._timer = [], 0.0, None
+        self._handlers = ((bpy.app.handlers.render_complete, lambda *_: self._ended.append("complete")),
+                          (bpy.app.handlers.render_cancel, lambda *_: self._ended.append("cancel")))
+        for handlers, fn in self._handlers:
+            handlers.append(fn)
+        view = context.preferences.view
+        display = view.render_display_type
+        view.render_display_type = "NONE"  # no render window for a 96 x 54 test
+        try:
+            started = bpy.ops.render.render("INVOKE_DEFAULT", write_still=True)
+        finally:
+            view.render_display_type = display
+        if "RUNNING_MODAL" not in started:
+            self._end(context)
+            self.report({"ERROR"}, "Meter Exposure: the test render did not start (is a render running?)")
+            return {"CANCELLED"}
+        self._timer = context.window_manager.event_timer_add(self.POLL_SECONDS, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type != "TIMER" or not self._ended:
+            return {"PASS_THROUGH"}  # Esc goes to the render job, which cancels itself
+        if self._ended[0] == "complete" and not os.path.exists(self._path) \
+                and self._waited < self.FILE_WAIT_SECONDS:
+            self._waited += self.POLL_SECONDS
+            return {"PASS_THROUGH"}
+        scene = self._end(context)
+        if self._ended[0] != "complete" or scene is None:
+            self.report({"WARNING"}, "Meter Exposure cancelled: the exposure is as it was")
+            return {"CANCELLED"}
+        try:
+            light = exposure_meter.read_luminance(self._path)
+        except RuntimeError as exc:
+            self.report({"ERROR"}, f"Meter Exposure: {exc}")
+            return {"CANCELLED"}
+        finally:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+        sun = volume_material.scene_sun(scene)
+        if sun is None:
+            self.report({"ERROR"}, "Meter Exposure: the Sun lamp is gone")
+            return {"CANCELLED"}
+        self._apply(scene, sun, light, self._before)
+        return {"FINISHED"}
+
+    def cancel(self, context):  # the window manager ended the operator (a file loaded, Blender quit)
+        self._end(context)
+        shutil.rmtree(self._tmp, ignore_errors=True)
+
+    def _end(self, context):
+        """Remove the handlers and the timer, put the scene's settings back; the scene, or None when
+        it is gone. The EXR stays for modal() to read."""
+        for handlers, fn in self._handlers:
+            if fn in handlers:
+                handlers.remove(fn)
+        if self._timer is not None:
+            context.window_manager.event_timer_remove(self._timer)
+            self._timer = None
+        scene = bpy.data.scenes.get(self._scene_name)
+        if scene is not None:
+            exposure_meter.restore_settings(scene, self._saved)
+        return scene
 
 
 def draw(layout, context):

@@ -25,6 +25,9 @@ if ((want_tests)); then
   apt_packages+=(blender python3-numpy python3-openvdb)
   # clang and its runtime (libFuzzer): the fuzz targets of tests/fuzz
   apt_packages+=(clang libclang-rt-14-dev)
+  # xvfb, xauth, Mesa's software OpenGL and xdotool (a real key press): Debian's Blender 3.4 with
+  # its window (tests/batch/test_gui34.py)
+  apt_packages+=(xvfb xauth libgl1-mesa-dri xdotool)
 fi
 missing=()
 for p in "${apt_packages[@]}"; do

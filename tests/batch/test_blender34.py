@@ -17,34 +17,16 @@ import pathlib
 import shutil
 import subprocess
 
-import addon_package
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BLENDER = shutil.which("blender") or "/usr/bin/blender"
-PACKAGE = ROOT / "build" / "addon" / "cloudgen"
 TYPES = sorted(json.loads((ROOT / "native" / "presets" / "clouds.json").read_text()))
 
 if not os.path.exists(BLENDER):
     if os.environ.get("CLOUDGEN_REQUIRE_BLENDER") == "1":
         raise RuntimeError("CLOUDGEN_REQUIRE_BLENDER=1 but Debian's blender is not installed")
     pytest.skip("Debian's blender is not installed", allow_module_level=True)
-
-
-@pytest.fixture(scope="module")
-def env(tmp_path_factory):
-    """Isolated user dirs with the packaged add-on linked in; package rebuilt when stale."""
-    base = tmp_path_factory.mktemp("b34")
-    addon_package.ensure()
-    (base / "scripts" / "addons").mkdir(parents=True)
-    (base / "scripts" / "addons" / "cloudgen").symlink_to(PACKAGE)
-    (base / "config").mkdir()
-    (base / "out").mkdir()
-    path = os.pathsep.join(d for d in os.environ.get("PATH", "").split(os.pathsep)
-                           if d and not os.path.exists(os.path.join(d, "cloudgen")))
-    e = dict(os.environ, BLENDER_USER_SCRIPTS=str(base / "scripts"), BLENDER_USER_CONFIG=str(base / "config"),
-             PATH=path)
-    return base, e
 
 
 @pytest.fixture(scope="module")

@@ -221,9 +221,8 @@ def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
     density * E * p(theta) of Fournier-Forand with ICE_IOR and the cirrostratus's backscatter,
     within PHASE_TOLERANCE of the model's mean over each ring (green channel)."""
     import bpy
-    import numpy as np
-
     import cloudgen_native as cn
+    import numpy as np
 
     vm = _volume_material()
     if "FOURNIER_FORAND" not in vm.scatter_phases():
@@ -272,4 +271,5 @@ def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
         rows.append((abs(got / want - 1.0), f"{lo:.0f}-{lo + 2:.0f}°: {got:.4g} against {want:.4g}"))
     worst = max(rows)
     print("[ figures ] " + "; ".join(text for _, text in rows[::4]) + f"; worst {worst[1]}, {worst[0]:.1%}")
-    assert worst[0] < PHASE_TOLERANCE, f"ring {worst[1]} ({worst[0]:.1%} off; B {look['backscatter']}, IOR {vm.ICE_IOR})"
+    assert worst[0] < PHASE_TOLERANCE, \
+        f"ring {worst[1]} ({worst[0]:.1%} off; B {look['backscatter']}, IOR {vm.ICE_IOR})"
