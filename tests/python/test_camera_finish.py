@@ -138,10 +138,13 @@ def test_grain_grows_with_the_iso(iso):
 
 
 def test_auto_iso_follows_the_light():
-    """Full sun gives SUNNY_ISO; eight times less light eight times the ISO; clamped to ISO_RANGE
-    however dark or bright (no overflow for extreme ratios); no light, or non-finite, is refused."""
+    """Full sun gives SUNNY_ISO, and so does light PROGRAM_STOPS below it (aperture and shutter);
+    eight times less light than that, eight times the ISO; clamped to ISO_RANGE however dark or
+    bright (no overflow for extreme ratios); no light, or non-finite, is refused."""
+    program = 2.0 ** cf.PROGRAM_STOPS
     assert cf.iso_for_light(0.5, 0.5) == cf.SUNNY_ISO
-    assert cf.iso_for_light(0.5 / 8, 0.5) == pytest.approx(8 * cf.SUNNY_ISO)
+    assert cf.iso_for_light(0.5 / program, 0.5) == pytest.approx(cf.SUNNY_ISO)
+    assert cf.iso_for_light(0.5 / (8 * program), 0.5) == pytest.approx(8 * cf.SUNNY_ISO)
     assert cf.iso_for_light(1e-300, 0.5) == cf.ISO_RANGE[1]
     assert cf.iso_for_light(1e300, 0.5) == cf.ISO_RANGE[0]
     for bad in (0.0, -1.0, float("nan"), float("inf")):
