@@ -70,6 +70,30 @@ def _halo_sphere(scene, vm, halo=1.0):
     return mat, volume
 
 
+def _render_from_centre(scene, path):
+    """Render SIZE x SIZE pixels at 64 spp, single scattering only (no volume bounces), from a
+    90° camera at the origin looking down -Z, to the EXR `path`; its RGBA as float64, bottom row
+    first."""
+    import bpy
+    import numpy as np
+
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    cam.data.sensor_fit, cam.data.sensor_width, cam.data.lens = "HORIZONTAL", 36.0, 18.0  # 90° across
+    cam.data.clip_start = 1e-3
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    r = scene.render
+    r.resolution_x = r.resolution_y = SIZE
+    r.resolution_percentage = 100
+    r.filter_size = 0.01
+    scene.cycles.samples = 64
+    scene.cycles.volume_bounces = 0
+    r.image_settings.file_format = "OPEN_EXR"
+    r.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return np.array(bpy.data.images.load(str(path)).pixels[:], dtype=np.float64).reshape(SIZE, SIZE, 4)
+
+
 def test_halo_ring_matches_the_model(empty_scene, tmp_path):
     """The mean radiance of every ring of pixels 0.5° wide from 14° to 34° off the sun within
     TOLERANCE_4 (5: TOLERANCE_5) of the model's peak of the model's mean over the same pixels
@@ -88,23 +112,7 @@ def test_halo_ring_matches_the_model(empty_scene, tmp_path):
     scene.world = world
     mat, _ = _halo_sphere(scene, vm)
     assert vm.set_halo_sun(mat, (0.0, 0.0, -1.0), (1.0, 1.0, 1.0))  # the sun straight ahead
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.data.sensor_fit, cam.data.sensor_width, cam.data.lens = "HORIZONTAL", 36.0, 18.0  # 90° across
-    cam.data.clip_start = 1e-3
-    scene.collection.objects.link(cam)
-    scene.camera = cam  # at the origin looking down -Z
-    r = scene.render
-    r.resolution_x = r.resolution_y = SIZE
-    r.resolution_percentage = 100
-    r.filter_size = 0.01
-    scene.cycles.samples = 64
-    scene.cycles.volume_bounces = 0
-    r.image_settings.file_format = "OPEN_EXR"
-    out = tmp_path / "halo.exr"
-    r.filepath = str(out)
-    bpy.ops.render.render(write_still=True)
-    img = bpy.data.images.load(str(out))
-    pixels = np.array(img.pixels[:], dtype=np.float64).reshape(SIZE, SIZE, 4)
+    pixels = _render_from_centre(scene, tmp_path / "halo.exr")
     peak = DENSITY * vm.HALO_PEAK_PER_SR * (1.0 - DENSITY / 2.0)
     theta = _pixel_angles(1).reshape(SIZE, SIZE)  # at the pixels' centres
     fine = _pixel_angles(4)  # the model is averaged over each pixel, as Cycles renders it: the
@@ -246,21 +254,7 @@ def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
     sun.data.energy, sun.data.angle = 1.0, 0.0
     sun.rotation_euler = (math.pi, 0.0, 0.0)  # light travels along +Z: the sun straight ahead
     scene.collection.objects.link(sun)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.data.sensor_fit, cam.data.sensor_width, cam.data.lens = "HORIZONTAL", 36.0, 18.0  # 90° across
-    cam.data.clip_start = 1e-3
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    r = scene.render
-    r.resolution_x = r.resolution_y = SIZE
-    r.resolution_percentage = 100
-    r.filter_size = 0.01
-    scene.cycles.samples = 64
-    scene.cycles.volume_bounces = 0
-    r.image_settings.file_format = "OPEN_EXR"
-    r.filepath = str(tmp_path / "ice.exr")
-    bpy.ops.render.render(write_still=True)
-    pixels = np.array(bpy.data.images.load(r.filepath).pixels[:], dtype=np.float64).reshape(SIZE, SIZE, 4)[..., 1]
+    pixels = _render_from_centre(scene, tmp_path / "ice.exr")[..., 1]
     theta = _pixel_angles(1).reshape(SIZE, SIZE)
     model = DENSITY * (1.0 - DENSITY) * _fournier_forand(_pixel_angles(4), look["backscatter"],
                                                          vm.ICE_IOR).mean(axis=(1, 3))
