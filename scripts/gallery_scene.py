@@ -352,7 +352,6 @@ def ring_mask(mat, inner: float, outer):
     in object coordinates, 0 elsewhere (outer None: no outer limit); its halo's density too
     (addon/volume_material.py's HALO_DENSITY: the mask goes into its second factor)."""
     nt = mat.node_tree
-    volume = nt.nodes[_volume_material().VOLUME_NODE]
     coords = nt.nodes.new("ShaderNodeTexCoord")
     sep = nt.nodes.new("ShaderNodeSeparateXYZ")
     nt.links.new(coords.outputs["Object"], sep.inputs[0])
@@ -380,7 +379,7 @@ def ring_mask(mat, inner: float, outer):
         nt.links.new(keep.outputs[0], both.inputs[0])
         nt.links.new(below.outputs[0], both.inputs[1])
         keep = both
-    density = volume.inputs["Density"]
+    density = _volume_material().density_input(nt)
     if density.is_linked:  # Volume Scatter: grid attribute -> Density; multiply it in
         src = density.links[0].from_socket
         mul = nt.nodes.new("ShaderNodeMath")

@@ -71,6 +71,8 @@ constexpr MaterialDecl kMaterial[] = {
     // ice veils: the Fournier-Forand phase's backscatter fraction (addon/volume_material.py's
     // ICE_IOR); Cycles clamps it below 0.5, and at 0 the phase is a delta
     {"backscatter", 1, 0.001, 0.49},
+    // ...and the share of their scattering in a wide lobe (volume_material.py's ICE_SIDE_G)
+    {"side_scatter", 1, 0.0, 0.5},
 };
 
 std::string shortest(double v) {

@@ -47,6 +47,11 @@ def test_add_cloud_renders_and_previews(addon, scene, cloud_type, tmp_path):
         if want == "FOURNIER_FORAND":
             assert vol.inputs["Backscatter"].default_value == pytest.approx(look["backscatter"])
             assert vol.inputs["IOR"].default_value == pytest.approx(addon.volume_material.ICE_IOR)
+            nodes = obj.active_material.node_tree.nodes
+            mix = nodes.get(addon.volume_material.MIX_NODE)
+            assert (mix is not None) == ("side_scatter" in look), (cloud_type, look)
+            if mix is not None:
+                assert mix.inputs["Fac"].default_value == pytest.approx(look["side_scatter"])
     else:
         assert vol.inputs["Anisotropy"].default_value == pytest.approx(look.get("anisotropy", 0.3))
 

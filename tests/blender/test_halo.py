@@ -217,17 +217,25 @@ def _fournier_forand(theta_deg, backscatter, ior):
     return main + (1.0 - d180 ** v) / (16.0 * math.pi * (d180 - 1.0) * d180 ** v) * (3.0 * np.cos(theta) ** 2 - 1.0)
 
 
+def _henyey_greenstein(theta_deg, g):
+    import numpy as np
+
+    return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * np.cos(np.radians(theta_deg))) ** 1.5)
+
+
 # of the model, per ring of pixels 2° wide from 4° to 50° off the sun (64 spp; single scattering
-# in an optically thin sphere). Measured: worst ring 1.5 % (4.5, 8-10°), 0.3 % (5.0, 48-50°);
-# Fournier-Forand with B 0.03 instead of 0.02 is 32 % off at 20°
+# in an optically thin sphere). Measured (Fournier-Forand alone): worst ring 1.5 % (4.5, 8-10°),
+# 0.3 % (5.0, 48-50°); Fournier-Forand with B 0.03 instead of 0.02 is 32 % off at 20°, and
+# without the side lobe the 48-50° ring is 40 % under the mix
 PHASE_TOLERANCE = 0.04
 
 
 def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
-    """The ice veils' phase (a look with "backscatter", phase AUTO; Blender 4.3+): the radiance
-    of a thin scattering sphere around a camera looking at the sun, ring by ring, against
-    density * E * p(theta) of Fournier-Forand with ICE_IOR and the cirrostratus's backscatter,
-    within PHASE_TOLERANCE of the model's mean over each ring (green channel)."""
+    """The ice veils' phase (a look with "backscatter" and "side_scatter" s, phase AUTO; Blender
+    4.3+): the radiance of a thin scattering sphere around a camera looking at the sun, ring by
+    ring, against density * E * p(theta), p = (1 - s) Fournier-Forand (ICE_IOR, the
+    cirrostratus's backscatter) + s Henyey-Greenstein (ICE_SIDE_G), within PHASE_TOLERANCE of
+    the model's mean over each ring (green channel)."""
     import bpy
     import cloudgen_native as cn
     import numpy as np
@@ -256,8 +264,10 @@ def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
     scene.collection.objects.link(sun)
     pixels = _render_from_centre(scene, tmp_path / "ice.exr")[..., 1]
     theta = _pixel_angles(1).reshape(SIZE, SIZE)
-    model = DENSITY * (1.0 - DENSITY) * _fournier_forand(_pixel_angles(4), look["backscatter"],
-                                                         vm.ICE_IOR).mean(axis=(1, 3))
+    share, fine = look["side_scatter"], _pixel_angles(4)
+    phase = (1.0 - share) * _fournier_forand(fine, look["backscatter"], vm.ICE_IOR) \
+        + share * _henyey_greenstein(fine, vm.ICE_SIDE_G)
+    model = DENSITY * (1.0 - DENSITY) * phase.mean(axis=(1, 3))
     rows = []
     for lo in np.arange(4.0, 50.0, 2.0):
         ring = (theta >= lo) & (theta < lo + 2.0)
@@ -266,4 +276,4 @@ def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
     worst = max(rows)
     print("[ figures ] " + "; ".join(text for _, text in rows[::4]) + f"; worst {worst[1]}, {worst[0]:.1%}")
     assert worst[0] < PHASE_TOLERANCE, \
-        f"ring {worst[1]} ({worst[0]:.1%} off; B {look['backscatter']}, IOR {vm.ICE_IOR})"
+        f"ring {worst[1]} ({worst[0]:.1%} off; B {look['backscatter']}, IOR {vm.ICE_IOR}, side {share})"

@@ -18,7 +18,7 @@ from scene_helpers import load_rgb  # noqa: E402  (tests/ is on sys.path: tests/
 
 TYPES = ["cumulus", "cumulus_congestus", "cumulonimbus", "stratocumulus", "stratus", "nimbostratus",
          "altocumulus", "altostratus", "cirrocumulus", "cirrus", "cirrostratus"]
-MATERIAL_KEYS = {"anisotropy", "color", "step_rate", "halo", "backscatter"}
+MATERIAL_KEYS = {"anisotropy", "color", "step_rate", "halo", "backscatter", "side_scatter"}
 SKY_DIFF = 0.05     # a pixel "shows cloud" when a channel differs from the sky by more than this
 MIN_CLOUD = 0.03    # ... and at least this fraction of the pixels must
 
@@ -77,6 +77,8 @@ def test_preset_material_keys(name):
         assert 0.01 <= material["step_rate"] <= 100, (name, material)
     if "backscatter" in material:
         assert 0.001 <= material["backscatter"] <= 0.49, (name, material)
+    if "side_scatter" in material:
+        assert "backscatter" in material and 0.0 <= material["side_scatter"] <= 0.5, (name, material)
 
 
 @pytest.fixture(scope="module")

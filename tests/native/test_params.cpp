@@ -156,6 +156,7 @@ TEST(Params, PresetMaterials) {
   EXPECT_EQ(cg::parse_presets(R"({"x": {"params": {}, "material": {"halo": 1}}})").at(0).material.at(0).key, "halo");
   expect_param_error(parse(R"({"backscatter": 0})"), {"'backscatter'", "[0.001, 0.49]"}, "backscatter 0: a delta");
   expect_param_error(parse(R"({"backscatter": 0.5})"), {"'backscatter'", "[0.001, 0.49]"}, "backscatter 0.5");
+  expect_param_error(parse(R"({"side_scatter": 0.6})"), {"'side_scatter'", "[0, 0.5]"}, "side scatter 0.6");
   expect_param_error(parse(R"({"color": [1, "1", 1]})"), {"'color'", "3 numbers"}, "colour with text");
   expect_param_error(parse(R"([1])"), {"'material' must be an object"}, "not an object");
   expect_param_error([] { cg::parse_presets(R"({"x": {"params": {}, "shader": {}}})"); }, {"unknown key 'shader'"},

@@ -122,7 +122,8 @@ def test_presets_material():
     for name, preset in cn.presets().items():
         material = preset["material"]
         assert isinstance(material, dict), name
-        assert set(material) <= {"anisotropy", "color", "step_rate", "halo", "backscatter"}, (name, material)
+        known = {"anisotropy", "color", "step_rate", "halo", "backscatter", "side_scatter"}
+        assert set(material) <= known, (name, material)
         assert isinstance(material.get("anisotropy", 0.0), float), (name, material)
         assert -1.0 <= material.get("anisotropy", 0.0) <= 1.0, (name, material)
         if "color" in material:
