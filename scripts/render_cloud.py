@@ -18,7 +18,8 @@ The material comes from the add-on's one volume-material builder
 (addon/volume_material.py, loaded by its path; in the studio with a Principled
 Volume on every Blender version, phase "HG": the references are rendered with it);
 it takes the preset's material settings ("material" in
-native/presets/clouds.json: anisotropy, color, step_rate, halo, backscatter); --step-rate
+native/presets/clouds.json: anisotropy, color, step_rate, halo, backscatter,
+side_scatter); --step-rate
 overrides the step rate. The OSL compiles run in a private temporary folder
 (addon/osl_temp.py) that is removed afterwards. With --vdb the same scene renders a baked VDB
 (`cloudgen bake` of the same parameters) instead of the procedural material: a
