@@ -195,8 +195,9 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     # From the sidebar (invoke, a window): the meter renders as Blender's render job — progress
     # in the status bar, Esc cancels and leaves the exposure as it was — and the operator waits
     # for it on a timer. From scripts and `blender -b` (execute): rendered there and then.
+    # Blender writes a write_still render before it calls render_complete (RE_RenderFrame, 3.4
+    # to 5.0): when the handler has run, the EXR is there or the render failed to write it.
     POLL_SECONDS = 0.1
-    FILE_WAIT_SECONDS = 10.0  # after the job's completion, for its EXR to appear
 
     def _sun(self, scene):
         sun = volume_material.scene_sun(scene)
@@ -242,7 +243,7 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
         self._tmp = tempfile.mkdtemp(prefix="cloudgen-meter-")
         self._path = os.path.join(self._tmp, "meter.exr")
         self._saved = exposure_meter.meter_settings(scene, self._path)
-        self._ended, self._waited, self._timer = [], 0.0, None
+        self._ended, self._timer = [], None
         self._handlers = ((bpy.app.handlers.render_complete, lambda *_: self._ended.append("complete")),
                           (bpy.app.handlers.render_cancel, lambda *_: self._ended.append("cancel")))
         for handlers, fn in self._handlers:
@@ -265,21 +266,19 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     def modal(self, context, event):
         if event.type != "TIMER" or not self._ended:
             return {"PASS_THROUGH"}  # Esc goes to the render job, which cancels itself
-        if self._ended[0] == "complete" and not os.path.exists(self._path) \
-                and self._waited < self.FILE_WAIT_SECONDS:
-            self._waited += self.POLL_SECONDS
-            return {"PASS_THROUGH"}
+        light, error = None, None
+        if self._ended[0] == "complete":
+            try:
+                light = exposure_meter.read_luminance(self._path)
+            except RuntimeError as exc:
+                error = exc
         scene = self._end(context)
-        if self._ended[0] != "complete" or scene is None:
+        if error is not None:
+            self.report({"ERROR"}, f"Meter Exposure: {error}")
+            return {"CANCELLED"}
+        if light is None or scene is None:
             self.report({"WARNING"}, "Meter Exposure cancelled: the exposure is as it was")
             return {"CANCELLED"}
-        try:
-            light = exposure_meter.read_luminance(self._path)
-        except RuntimeError as exc:
-            self.report({"ERROR"}, f"Meter Exposure: {exc}")
-            return {"CANCELLED"}
-        finally:
-            shutil.rmtree(self._tmp, ignore_errors=True)
         sun = volume_material.scene_sun(scene)
         if sun is None:
             self.report({"ERROR"}, "Meter Exposure: the Sun lamp is gone")
@@ -289,17 +288,17 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
 
     def cancel(self, context):  # the window manager ended the operator (a file loaded, Blender quit)
         self._end(context)
-        shutil.rmtree(self._tmp, ignore_errors=True)
 
     def _end(self, context):
-        """Remove the handlers and the timer, put the scene's settings back; the scene, or None when
-        it is gone. The EXR stays for modal() to read."""
+        """Remove the handlers, the timer and the private folder, put the scene's settings back;
+        the scene, or None when it is gone."""
         for handlers, fn in self._handlers:
             if fn in handlers:
                 handlers.remove(fn)
         if self._timer is not None:
             context.window_manager.event_timer_remove(self._timer)
             self._timer = None
+        shutil.rmtree(self._tmp, ignore_errors=True)
         scene = bpy.data.scenes.get(self._scene_name)
         if scene is not None:
             exposure_meter.restore_settings(scene, self._saved)

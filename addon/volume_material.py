@@ -139,7 +139,8 @@ def procedural_step_rate(look: dict) -> float:
 
 def volume_material(mat, look: dict, grid=None, phase="AUTO", like=None, step_rate=None):
     """Clear mat's node tree and build the volume shader in it; returns the "Cloud Volume" node.
-    look: the preset's "material" (color, anisotropy, step_rate, halo, backscatter); grid: None for a procedural
+    look: the preset's "material" (color, anisotropy, step_rate, halo, backscatter, side_scatter);
+    grid: None for a procedural
     material (the caller links the density into the node's Density), else the grid's name."""
     if phase not in ("AUTO", "HG"):
         raise ValueError(f"phase must be AUTO or HG, not {phase!r}")

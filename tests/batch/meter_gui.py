@@ -9,11 +9,15 @@ Two runs, driven by a timer:
   exposure_for(40) - 2 stops and the render settings are back;
 - cancelled: a slow frame (a noisy volume cube at step rate 0.01) and Esc pressed (xdotool) a
   second after the start: the exposure stays as it was and the settings come back.
-Either way no render window opens, and the operator's handlers are removed. What each run
+Either way no render window opens, and the operator's handlers and its private folder (in
+TMPDIR, which the test makes empty) are removed. What each run
 saw goes to OUT.json; Blender quits when done (or after TIMEOUT seconds)."""
+import glob
 import json
+import os
 import subprocess
 import sys
+import tempfile
 import time
 
 import addon_utils
@@ -87,6 +91,7 @@ def steps():
                         "exposure": scene.view_settings.exposure,
                         "want": sky_light.exposure_for(40.0) - 2.0 if run == "metered" else 1.25,
                         "settings_back": _settings(scene) == before,
+                        "folders_left": len(glob.glob(os.path.join(tempfile.gettempdir(), "cloudgen-meter-*"))),
                         "windows": [windows, len(bpy.context.window_manager.windows)]}
         yield 0.5
 

@@ -1,7 +1,8 @@
 """Debian's Blender 3.4 with its window (xvfb-run, Mesa's software OpenGL): what only a window
 has. Meter Exposure as the sidebar button calls it (tests/batch/meter_gui.py): the meter's
 render runs as Blender's render job, the operator waits for it, and a real Esc (xdotool)
-cancels it. Skipped without blender, xvfb-run or xdotool unless CLOUDGEN_REQUIRE_BLENDER=1."""
+cancels it; either way the operator leaves no handler and no folder behind. Skipped without
+blender, xvfb-run or xdotool unless CLOUDGEN_REQUIRE_BLENDER=1."""
 import json
 import os
 import pathlib
@@ -24,6 +25,9 @@ STOPS = 1e-4  # a uniform white world: the meter reads it exactly (float32 EXR)
 def test_meter_exposure_renders_as_a_job_and_esc_cancels_it(env, tmp_path):
     base, e = env
     out = tmp_path / "meter.json"
+    private_tmp = tmp_path / "tmp"  # the operator's folders go here, and must be gone
+    private_tmp.mkdir()
+    e = dict(e, TMPDIR=str(private_tmp))
     proc = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", BLENDER, "--factory-startup",
                            "--python", str(ROOT / "tests" / "batch" / "meter_gui.py"), "--", str(out)],
                           env=e, capture_output=True, text=True, timeout=600)
@@ -37,6 +41,7 @@ def test_meter_exposure_renders_as_a_job_and_esc_cancels_it(env, tmp_path):
         r = got[run]
         assert r["started"] == ["RUNNING_MODAL"], (run, r, log)  # a job, not a frozen window
         assert r["handlers_left"] == 0, (run, r)
+        assert r["folders_left"] == 0, f"{run}: the operator left its folder in TMPDIR: {r}"
         assert r["settings_back"], (run, r)
         assert r["windows"][0] == r["windows"][1], f"{run}: a render window opened: {r}"
         assert abs(r["exposure"] - r["want"]) < STOPS, (run, r, log)

@@ -230,7 +230,7 @@ def _henyey_greenstein(theta_deg, g):
 PHASE_TOLERANCE = 0.04
 
 
-def test_ice_veil_scatters_with_fournier_forand(empty_scene, tmp_path):
+def test_ice_veil_scatters_with_fournier_forand_and_a_side_lobe(empty_scene, tmp_path):
     """The ice veils' phase (a look with "backscatter" and "side_scatter" s, phase AUTO; Blender
     4.3+): the radiance of a thin scattering sphere around a camera looking at the sun, ring by
     ring, against density * E * p(theta), p = (1 - s) Fournier-Forand (ICE_IOR, the
