@@ -4,11 +4,10 @@ import bpy
 
 from . import blender_nodes, bridge, checks, cloud_object, nodes, precipitation, preview, props, volume_material
 from .panel import tooltip
+from .sky_light import CLOUD_BOUNCES
 
 # Volume bounces for clouds: a thick cloud scatters light many times before it leaves; with
-# fewer bounces the lost light makes it grey (docs/lighting.md: the default cumulus's sunlit
-# side at 1 / 4 / 8 / 16 / 32 bounces).
-CLOUD_BOUNCES = 32
+# fewer bounces the lost light makes it grey. CLOUD_BOUNCES comes from sky_light (which says how much).
 MIN_CLOUD_BOUNCES = 4  # Add Cloud raises a scene's Volume Bounces below this to CLOUD_BOUNCES
 
 
@@ -138,7 +137,7 @@ class CLOUDGEN_OT_render_settings(bpy.types.Operator):
     denoise: bpy.props.BoolProperty(name="Denoise", default=True,
                                     description="Denoise final renders (left off where this "
                                                 "Blender has no denoiser)")
-    volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=CLOUD_BOUNCES, min=0, max=128,
+    volume_bounces: bpy.props.IntProperty(name="Volume Bounces", default=CLOUD_BOUNCES, min=0, max=1024,
                                           description="Multiple scattering makes clouds bright")
     step_rate: bpy.props.FloatProperty(name="Cloud Step Rate", default=0.0, min=0.0, max=10.0,
                                        description="Volume step rate of the cloud materials (smaller: finer "

@@ -43,6 +43,13 @@ SKY_SHARE = 0.15  # skylight on a sunlit surface, as a share of the direct sun (
 MIDDLE = 3.0      # scene-linear value of a white surface facing the sun after exposure (see exposure_for)
 LOOKS = ("AgX - High Contrast", "Filmic - High Contrast", "High Contrast")  # by Blender version
 WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is left warm (golden hour)
+# Volume bounces for clouds (Add Cloud, Cloud Render Settings, scripts/render_cloud.py): light
+# in a thick cloud scatters many times before it leaves, the more so the more forward its phase
+# (Mie's g is about 0.85). The default cumulus (optical depth about 90) side-lit in the gallery,
+# in % of its 2,048-bounce radiance, sunlit flank / shaded flank: 61 / 43 at 32 bounces, 87 / 78
+# at 128, 95 / 92 at 256, 99 / 99 at 512, for 3.3x the time of 32 (docs/render_trade.md). 32
+# was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it.
+CLOUD_BOUNCES = 512
 
 
 def denoiser_built_in() -> bool:

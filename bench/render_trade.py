@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 from common import atomic_write, machine_info, splice, write_json  # noqa: E402
 
 PRESET = "cumulus"
-BASE_BOUNCES = 16          # the add-on's Cloud Render Settings (and render_cloud.py --light sky)
+BASE_BOUNCES = 16          # the add-on's default on 2026-11-24 (512 since 2026-11-28: docs/render_trade.md)
 BASE_SAMPLES = 64
 VIEWS = {                  # sun elevation, sun rotation (0: ahead of the camera, 180: behind it)
     "sun_behind": (35.0, 150.0),   # render_cloud.py's default: behind the camera, to one side
@@ -67,7 +67,7 @@ def study_plan(quick, ref_samples):
                 v("phase_dual_hg_0.8_-0.2_toward_sun", "phase", samples=1, phase="dual_hg_0.8_-0.2",
                   view="toward_sun")]
     plan = [v("reference", "reference", samples=ref_samples, seed=1)]
-    plan += [v(f"bounces_{b}", "bounces", bounces=b) for b in (1, 2, 4, 8, 16, 32, 64)]
+    plan += [v(f"bounces_{b}", "bounces", bounces=b) for b in (1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024)]
     for spp in (4, 8, 16, 32, 64):
         plan += [v(f"spp_{spp}", "denoise", samples=spp), v(f"spp_{spp}_oidn", "denoise", samples=spp, denoise=True)]
     plan += [v("spp_128", "denoise", samples=128)]
@@ -295,7 +295,7 @@ def run(args):
 
 
 def measure(rows, images, masks):
-    """Each row's errors against its study's reference: bounces against 64 bounces (same
+    """Each row's errors against its study's reference: bounces against the most bounces (same
     seed), phases against none (brightness only), the rest against the reference."""
     by_name = {r["name"]: r for r in rows}
     top_bounces = max((r for r in rows if r["study"] == "bounces"), key=lambda r: r["bounces"], default=None)

@@ -21,7 +21,7 @@ side-on under the low sun, compact clouds are lit from the side and thin ice lay
 sun ahead, and the veils (altostratus, cirrostratus) have their sun in the frame (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
-clouds (addon/precipitation.py), 32 volume bounces, OpenImageDenoise where Blender has it
+clouds (addon/precipitation.py), 512 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
 grey overcasts the camera is balanced and exposed for the overcast's own light (exposure_meter.frame_luminance());
 a sunlit frame with the sun's glare in it is exposed down to GLARE_LIGHT.

@@ -8,7 +8,7 @@ Builds a small scene — the cloud box with its volume material fed by Cloud
 Main, a camera and light — and renders it on the CPU with OSL. Writes the image
 atomically. Two lights: `--light sky` (default) is what the add-on's "Cloud Sky
 & Sun" sets up — a Nishita sky, a sun lamp matched to it, AgX (Filmic on 3.4),
-an exposure for the sun's elevation, 32 volume bounces, the Mie phase where
+an exposure for the sun's elevation, 512 volume bounces, the Mie phase where
 Cycles has it, denoising on where Blender has OpenImageDenoise;
 `--light studio` is the benchmarks' reference scene — a flat blue world, a 6 W
 sun, Standard view, 4 bounces, Henyey–Greenstein, denoising off (the output is
@@ -78,7 +78,7 @@ def parse_args(argv):
     ap.add_argument("--sun-rotation", type=float, default=150.0,
                     help="sky light: sun azimuth, degrees (0: ahead of the camera, 180: behind it)")
     ap.add_argument("--bounces", type=int, default=None,
-                    help="volume bounces (default: 32 with the sky light, 4 in the studio)")
+                    help="volume bounces (default: the add-on's 512 with the sky light, 4 in the studio)")
     return ap.parse_args(argv)
 
 
@@ -144,7 +144,7 @@ def build_scene(values, args):
     scene.cycles.use_denoising = sky and _addon_file("sky_light").denoiser_built_in()
     scene.cycles.seed = args.seed
     bounces = getattr(args, "bounces", None)
-    bounces = (32 if sky else 4) if bounces is None else bounces
+    bounces = (_addon_file("sky_light").CLOUD_BOUNCES if sky else 4) if bounces is None else bounces
     scene.cycles.volume_bounces = bounces
     scene.cycles.max_bounces = max(bounces, 4)
     scene.render.threads_mode = "FIXED" if args.threads else "AUTO"
