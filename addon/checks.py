@@ -21,6 +21,7 @@ sockets, nothing is linked, the cloud renders empty) are compiled and linked whe
 the file is opened in a Blender with OSL (nodes.repair_groups), and the preview
 is recomputed for the active cloud.
 """
+import math
 import os
 import sys
 from types import SimpleNamespace
@@ -232,11 +233,66 @@ def clip_range_fix(scene, clouds):
     return cam.data.clip_end
 
 
+def camera_inside(scene, cloud):
+    """A line when the scene camera stands inside the cloud's box: the render sees the cloud
+    from within, fog a few metres deep at a cloud's density: a nearly even white frame near a
+    sunlit edge, black deep inside a tall cloud. Add Cloud puts a box at the 3D cursor: the
+    cumulonimbus's is 180 × 112 × 36 units (45 km wide at the presets' 250 m per unit), and
+    Blender's startup camera, 11 units from the cursor, ends up inside it. None when it is
+    not (no camera, or outside the box). Sizes as Blender shows them (units as metres, as
+    clip_range's)."""
+    cam = _scene_camera(scene)
+    if cam is None:
+        return None
+    local = cloud.matrix_world.inverted_safe() @ cam.matrix_world.translation
+    lo = [min(c[i] for c in cloud.bound_box) for i in range(3)]
+    hi = [max(c[i] for c in cloud.bound_box) for i in range(3)]
+    if not all(lo[i] < local[i] < hi[i] for i in range(3)):
+        return None
+    w, d, h = cloud.dimensions
+    return (f"The camera is inside {cloud.name}'s box ({w:.4g} × {d:.4g} × {h:.4g} m): it renders fog from "
+            "within the cloud, not its shape; move the camera out of the box")
+
+
+def camera_outside_fix(scene, cloud):
+    """Move the scene camera back along its own view (its rotation and lens stay) until the
+    cloud's bounding sphere fits in the frame: the box's centre on the view axis, at the distance
+    where the sphere touches the narrower side of the frame (orthographic: just outside the
+    sphere). Then Clip End (clip_range_fix) reaches the far side. Returns the new distance to
+    the box's centre (scene units), None without a camera."""
+    from mathutils import Vector  # noqa: PLC0415 - with bpy only
+
+    from . import camera_fit  # noqa: PLC0415
+
+    cam = _scene_camera(scene)
+    if cam is None:
+        return None
+    corners = [cloud.matrix_world @ Vector(c) for c in cloud.bound_box]
+    centre = sum(corners, Vector()) / len(corners)
+    radius = max((c - centre).length for c in corners)
+    view = (cam.matrix_world.to_quaternion() @ Vector((0.0, 0.0, -1.0))).normalized()
+    if cam.data.type == "PERSP":
+        tx, ty = camera_fit.tan_half_fov(cam.data, *camera_fit.render_resolution(scene))
+        half = math.atan(min(tx, ty))
+        dist = radius / math.sin(half)
+    else:
+        dist = radius * 1.05 + cam.data.clip_start
+    if cam.parent is None:
+        cam.location = centre - view * dist  # the rotation stays exactly as it was
+    else:  # through the world matrix: the parent's transform stays
+        place = cam.matrix_world.copy()
+        place.translation = centre - view * dist
+        cam.matrix_world = place
+    bpy.context.view_layer.update()
+    clip_range_fix(scene, [cloud])
+    return dist
+
+
 def problems(scene):
     """(empty, warnings): lines about the scene's clouds; `empty` are the clouds the render
     would show as nothing (a baked VDB not there, a procedural cloud where OSL cannot run or
     whose shaders were never compiled), `warnings` the rest (a stale bake, no denoiser, a camera
-    Clip End that cuts a cloud off)."""
+    Clip End that cuts a cloud off, a camera inside a cloud's box)."""
     empty, warnings = [], []
     if denoiser_missing(scene):
         warnings.append("denoising is on but this Blender has no OpenImageDenoise: the render "
@@ -263,15 +319,12 @@ def problems(scene):
             cut = None if absent else eevee_range(scene, cloud)
             if cut is not None:
                 (empty if cut[0] else warnings).append(cut[1])
-            clipped = None if absent else clip_range(scene, cloud)
-            if clipped is not None:
-                warnings.append(clipped)
+            if not absent:
+                warnings.extend(line for line in (clip_range(scene, cloud), camera_inside(scene, cloud)) if line)
             continue
         if not renders(cloud):
             continue
-        clipped = clip_range(scene, cloud)
-        if clipped is not None:
-            warnings.append(clipped)
+        warnings.extend(line for line in (clip_range(scene, cloud), camera_inside(scene, cloud)) if line)
         if osl is None:
             osl = _osl_problem(scene) or ""
         if osl:

@@ -51,6 +51,8 @@ def dark_settings(scene):
         found.append((line, "EEVEE_RANGE"))
     for _, line in _clipped(scene):
         found.append((line, "CLIP_END"))
+    for _, line in _camera_inside(scene):
+        found.append((line, "CAMERA_OUT"))
     if scene.view_settings.view_transform == "Standard":
         found.append(("View Transform Standard clips bright clouds to flat white (AgX/Filmic keep the "
                       "highlights)", "VIEW"))
@@ -77,6 +79,12 @@ def _clipped(scene):
     return [(o, line) for o, line in ((o, checks.clip_range(scene, o)) for o in clouds) if line is not None]
 
 
+def _camera_inside(scene):
+    """[(cloud, line)]: the rendering clouds whose box holds the scene camera (checks.camera_inside)."""
+    clouds = [o for o in scene.objects if cloud_object.is_cloud(o) and checks.renders(o)]
+    return [(o, line) for o, line in ((o, checks.camera_inside(scene, o)) for o in clouds) if line is not None]
+
+
 class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
     """Change the one setting that makes the clouds dark or clipped"""
     bl_idname = "cloudgen.fix_dark"
@@ -89,7 +97,10 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
                                         ("EEVEE_RANGE", "Eevee Volumetrics Range",
                                          "Widen Eevee's Volumetrics Start and End to hold every cloud"),
                                         ("CLIP_END", "Camera Clip End",
-                                         "Move the camera's Clip End beyond the farthest cloud")))
+                                         "Move the camera's Clip End beyond the farthest cloud"),
+                                        ("CAMERA_OUT", "Camera Out of the Cloud",
+                                         "Move the camera back along its view until the cloud it is "
+                                         "inside fits in the frame")))
 
     def execute(self, context):
         scene = context.scene
@@ -108,6 +119,14 @@ class CLOUDGEN_OT_fix_dark(bpy.types.Operator):
         elif self.what == "CLIP_END":
             end = checks.clip_range_fix(scene, [c for c, _ in _clipped(scene)])
             self.report({"INFO"}, f"Camera Clip End {end:g} m")
+        elif self.what == "CAMERA_OUT":
+            inside = _camera_inside(scene)
+            if not inside:
+                self.report({"INFO"}, "The camera is inside no cloud")
+                return {"CANCELLED"}
+            dist = checks.camera_outside_fix(scene, inside[0][0])
+            self.report({"INFO"}, f"Camera moved back to {dist:.4g} m from {inside[0][0].name}'s centre, "
+                                  f"Clip End {scene.camera.data.clip_end:.4g} m")
         else:
             self.report({"INFO"}, f"View Transform {sky_light.view_transform(scene)}")
         return {"FINISHED"}

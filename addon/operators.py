@@ -61,6 +61,9 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
             c.use_denoising = False  # Debian's 3.4 default scene: on, with no denoiser built in
             self.report({"INFO"}, "Denoise turned off: this Blender has no denoiser for this device and a "
                                   "render with it on fails (Ctrl+Z to undo)")
+        inside = checks.camera_inside(context.scene, obj)
+        if inside:
+            self.report({"WARNING"}, f"{inside} (Cloudgen sidebar → Fix)")
         problem = osl_problem(context)
         if problem:
             self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "

@@ -30,6 +30,7 @@ def _camera(scene, yaw_deg):
     cam = bpy.data.objects.new("Shot", bpy.data.cameras.new("Shot"))
     scene.collection.objects.link(cam)
     cam.rotation_euler = (math.radians(90), 0.0, math.radians(yaw_deg))  # looks along +Y turned by yaw
+    cam.location = (0.0, -30.0, 0.0)  # outside the cloud's box at the origin (inside, the sidebar says so)
     scene.camera = cam
     return cam
 

@@ -173,3 +173,101 @@ def test_clip_end_said_and_fixed(addon, scene, cloud):
     cam.data.clip_end = 1.0e5  # never brought nearer
     assert bpy.ops.cloudgen.fix_dark(what="CLIP_END") == {"FINISHED"}
     assert cam.data.clip_end == pytest.approx(1.0e5)
+
+
+def _in_frame(scene, cam, points):
+    """[(x, y, depth)] of world `points` in the camera's frame: x, y as fractions of the half
+    frame (|x|, |y| <= 1 inside), depth along the view (> 0 in front)."""
+    from cloudgen import camera_fit
+    from mathutils import Vector
+
+    tx, ty = camera_fit.tan_half_fov(cam.data, *camera_fit.render_resolution(scene))
+    to_cam = cam.matrix_world.inverted()
+    out = []
+    for p in points:
+        q = to_cam @ Vector(p)
+        out.append((q.x / (-q.z * tx), q.y / (-q.z * ty), -q.z))
+    return out
+
+
+@pytest.mark.parametrize("parented", [False, True])
+def test_camera_inside_a_cloud_said_and_fixed(addon, scene, cloud, parented, tmp_path):
+    """A camera inside a cloud's box renders the cloud from within (dark: Add Cloud puts the
+    cumulonimbus's 180-unit box at the cursor, around Blender's startup camera): a warning before
+    the render, a line with a Fix in the sidebar. The Fix moves the camera back along its own
+    view (rotation unchanged, exactly) until every corner of the box is in front of it and in the
+    frame, and Clip End reaches the far corner; nothing is said afterwards. Measured: the frame's
+    share of the frame the cloud covers (the meter's 96 x 54 render, 512 bounces; looking 21°
+    down, the empty scene's background below the horizon is black): from inside, fog over the
+    whole frame (white near the sunlit top; measured 0.885), after the Fix the cloud against the
+    background (0.192); rendered for the camera without a rig only (the rig changes no light)."""
+    import bpy
+    from mathutils import Vector
+
+    bpy.ops.cloudgen.sky_setup()
+    scene.cycles.volume_bounces = 512
+    scene.cycles.max_bounces = 512
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    if parented:  # a camera rig: the Fix sets the world place through the parent's transform
+        rig = bpy.data.objects.new("Rig", None)
+        scene.collection.objects.link(rig)
+        rig.location, rig.rotation_euler = (3.0, -2.0, 1.0), (0.0, 0.0, 0.7)
+        cam.parent = rig
+    cam.rotation_euler = (1.2, 0.0, 0.4)
+    bpy.context.view_layer.update()  # the rig's and the camera's world matrices, before they are read
+    place = cam.matrix_world.copy()
+    place.translation = cloud.matrix_world @ Vector((0.0, 0.1, 0.15))  # inside: the box is ±0.5, scaled
+    cam.matrix_world = place
+    bpy.context.view_layer.update()
+    rotation = cam.matrix_world.to_quaternion()
+    euler = tuple(cam.rotation_euler)
+    inside = None if parented else _cover(addon, scene, tmp_path / "inside.exr")
+    lines = [w for w in _lines(addon, scene)[1] if "inside" in w]
+    assert len(lines) == 1 and f"inside {cloud.name}'s box" in lines[0], _lines(addon, scene)
+    assert [f for _, f in addon.light_setup.dark_settings(scene) if f == "CAMERA_OUT"] == ["CAMERA_OUT"]
+
+    assert bpy.ops.cloudgen.fix_dark(what="CAMERA_OUT") == {"FINISHED"}
+    corners = [cloud.matrix_world @ Vector(c) for c in cloud.bound_box]
+    framed = _in_frame(scene, cam, corners)
+    assert all(d > cam.data.clip_start and abs(x) <= 1.0 + 1e-6 and abs(y) <= 1.0 + 1e-6 for x, y, d in framed), framed
+    centre = sum(corners, Vector()) / 8
+    cx, cy, _ = _in_frame(scene, cam, [centre])[0]
+    assert abs(cx) < 1e-5 and abs(cy) < 1e-5, (cx, cy)  # on the view axis
+    assert cam.matrix_world.to_quaternion().rotation_difference(rotation).angle < 1e-5
+    if not parented:
+        assert tuple(cam.rotation_euler) == euler  # untouched, bit for bit
+    far = max((c - cam.matrix_world.translation).length for c in corners)
+    assert cam.data.clip_end >= far, (cam.data.clip_end, far)
+    assert not [w for w in _lines(addon, scene)[1] if "inside" in w or "Clip End" in w], _lines(addon, scene)
+    assert not addon.light_setup.dark_settings(scene), addon.light_setup.dark_settings(scene)
+    assert bpy.ops.cloudgen.fix_dark(what="CAMERA_OUT") == {"CANCELLED"}  # nothing to do: says so
+    if not parented:
+        outside = _cover(addon, scene, tmp_path / "outside.exr")
+        print(f"cloud's share of the frame: inside {inside:.3f}, after the Fix {outside:.3f}")
+        assert inside > FOG_COVER and outside < CLOUD_COVER, (inside, outside)
+
+
+FOG_COVER = 0.8  # from inside: at least this share of the frame is lit (fog)
+CLOUD_COVER = 0.5  # after the Fix: the whole box in the frame, the cloud on less than half of it
+
+
+def _cover(addon, scene, path):
+    """The share of the meter's render of the frame brighter than a tenth of its 90th percentile
+    (scene-linear luminance): the part the lit cloud covers against a black background."""
+    import bpy
+    import numpy as np
+
+    meter = addon.exposure_meter
+    saved = meter.meter_settings(scene, str(path))
+    try:
+        bpy.ops.render.render(write_still=True)
+    finally:
+        meter.restore_settings(scene, saved)
+    img = bpy.data.images.load(str(path))
+    try:
+        lum = np.array(img.pixels[:], dtype=np.float64).reshape(-1, 4)[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
+    finally:
+        bpy.data.images.remove(img)
+    return float((lum > 0.1 * np.percentile(lum, 90)).mean())
