@@ -329,10 +329,12 @@ def draw(layout, context):
     layout.operator(CLOUDGEN_OT_sky_setup.bl_idname, icon="LIGHT_SUN")
     layout.operator(CLOUDGEN_OT_meter_exposure.bl_idname, icon="CAMERA_DATA")
     for text, fix in dark_settings(context.scene):
-        row = layout.row()
-        wrapped_label(row.column(), text, "ERROR", context)
+        # the line across the sidebar's width, its Fix under it (beside it, in a row, the text
+        # got half the width and Blender cut its wrapped lines short: "Cumulo…", "End is 1…")
+        col = layout.column(align=True)
+        wrapped_label(col, text, "ERROR", context)
         if fix:
-            row.operator(CLOUDGEN_OT_fix_dark.bl_idname, text="Fix").what = fix
+            col.operator(CLOUDGEN_OT_fix_dark.bl_idname, text="Fix").what = fix
 
 
 classes = (CLOUDGEN_OT_fix_dark, CLOUDGEN_OT_sky_setup, CLOUDGEN_OT_meter_exposure)
