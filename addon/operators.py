@@ -63,7 +63,7 @@ class CLOUDGEN_OT_add_cloud(bpy.types.Operator):
                                   "render with it on fails (Ctrl+Z to undo)")
         inside = checks.camera_inside(context.scene, obj)
         if inside:
-            self.report({"WARNING"}, f"{inside} (Cloudgen sidebar → Fix)")
+            self.report({"WARNING"}, f"{inside} (the sidebar's Cloud tab has a Fix)")
         problem = osl_problem(context)
         if problem:
             self.report({"WARNING"}, f"{obj.name} added; it will not render procedurally: {problem} "
