@@ -94,7 +94,8 @@ def exposure_for(elevation_deg: float) -> float:
     reviewers: "overexposed", "evenly lit"). The gallery's cumulus side-on, side-lit by a 25°
     sun (display 0-255; sky at the top, horizon, sunlit flank, shaded flank): MIDDLE 5 with
     40 km haze 177/221/225/192; MIDDLE 3 with 80 km haze (landscape.VISIBILITY_KM)
-    129/196/203/139. A low sun gets a longer exposure, as a camera would; the floor keeps a
+    129/196/203/139 (32 bounces; at 512 and the denser cumulus 109/177/186/169:
+    docs/lighting.md). A low sun gets a longer exposure, as a camera would; the floor keeps a
     set sun from blowing up the sky."""
     return exposure_for_irradiance(sun_irradiance(max(elevation_deg, 2.0)))
 
