@@ -43,6 +43,10 @@ def dark_settings(scene):
                       "BOUNCES"))
     if scene.render.engine == "CYCLES" and scene.cycles.max_bounces < MIN_BOUNCES:
         found.append((f"Total bounces is {scene.cycles.max_bounces}: it caps Volume Bounces", "BOUNCES"))
+    if not found and scene.render.engine == "CYCLES":
+        line = _few_bounces(scene.cycles.volume_bounces, scene.cycles.max_bounces)
+        if line:
+            found.append((line, "BOUNCES"))
     clamp = getattr(scene.cycles, "sample_clamp_indirect", 0.0) if scene.render.engine == "CYCLES" else 0.0
     if 0.0 < clamp * 2.0 ** scene.view_settings.exposure < sky_light.CLAMP_DISPLAY / 2:
         found.append((f"Clamp Indirect {clamp:g} at exposure {scene.view_settings.exposure:.1f} cuts the light "
@@ -61,6 +65,19 @@ def dark_settings(scene):
     if not suns and (world is None or not world.use_nodes):
         found.append(("No light and no sky: the clouds are black (Cloud Sky & Sun adds both)", ""))
     return found
+
+
+def _few_bounces(volume: int, total: int):
+    """The line for a scene whose bounces (Volume Bounces, capped by Total) let a thick cloud
+    through with less than nine tenths of its light, with the measured share; None from
+    sky_light.LOW_CLOUD_BOUNCES up."""
+    n = min(volume, total)
+    if n >= sky_light.LOW_CLOUD_BOUNCES:
+        return None
+    what = f"Volume Bounces is {volume}" if volume <= total else f"Total bounces is {total} (it caps Volume Bounces)"
+    share = round(100 * sky_light.cumulus_light_share(n))
+    return (f"{what}: a thick cloud keeps only about {share} % of its light (the default cumulus, measured) "
+            f"and renders grey; {operators.CLOUD_BOUNCES} keeps it white, for about 3× the time of 32")
 
 
 def _eevee_outside(scene):

@@ -50,6 +50,28 @@ WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is le
 # at 128, 95 / 92 at 256, 99 / 99 at 512, for 3.3x the time of 32 (docs/render_trade.md). 32
 # was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it.
 CLOUD_BOUNCES = 512
+# The default cumulus's light against volume bounces: the mean of its optically thick body in
+# render_cloud.py's sky scene (64x48, 16 spp), as a share of its light at 1,024 bounces
+# (measured 2026-11-28, the test_bounces setup; that test checks the 32 and 512 rows again).
+# The sidebar quotes it for a scene with fewer than LOW_CLOUD_BOUNCES.
+CUMULUS_LIGHT_BY_BOUNCES = ((4, 0.125), (8, 0.211), (16, 0.351), (32, 0.544), (64, 0.733), (128, 0.875),
+                            (256, 0.958), (512, 0.995), (1024, 1.0))
+LOW_CLOUD_BOUNCES = 128  # below this a thick cloud loses more than a tenth of its light (the table)
+
+
+def cumulus_light_share(bounces: int) -> float:
+    """The default cumulus's light at `bounces` volume bounces as a share of its converged light:
+    CUMULUS_LIGHT_BY_BOUNCES interpolated in log2(bounces); 0 for no bounces, 1 from 1,024."""
+    table = CUMULUS_LIGHT_BY_BOUNCES
+    if bounces <= 0:
+        return 0.0
+    if bounces <= table[0][0]:
+        return table[0][1] * bounces / table[0][0]  # toward 0 bounces, as light with no scattering
+    for (b0, s0), (b1, s1) in zip(table, table[1:]):
+        if bounces <= b1:
+            t = (math.log2(bounces) - math.log2(b0)) / (math.log2(b1) - math.log2(b0))
+            return s0 + t * (s1 - s0)
+    return 1.0
 
 
 def denoiser_built_in() -> bool:

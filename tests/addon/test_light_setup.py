@@ -102,6 +102,33 @@ def test_dark_settings_said_and_fixed(addon, scene, cloud):
     assert addon.light_setup.dark_settings(scene) == []
 
 
+def test_few_bounces_said_with_the_measured_share(addon, scene, cloud):
+    """From 4 to sky_light.LOW_CLOUD_BOUNCES - 1 bounces (Volume, or Total capping it) the sidebar
+    quotes the default cumulus's measured share of its light; its Fix raises both to
+    CLOUD_BOUNCES; from LOW_CLOUD_BOUNCES up nothing is said. The share: the measured table,
+    interpolated in log2(bounces), monotone, 0 at no bounces and 1 at 1,024."""
+    import bpy
+
+    sl = addon.sky_light
+    shares = [sl.cumulus_light_share(n) for n in range(0, 1100)]
+    assert shares[0] == 0.0 and shares[1024] == 1.0 and shares[32] == pytest.approx(0.544)
+    assert all(a <= b for a, b in zip(shares, shares[1:])), "the share falls somewhere"
+    bounce_lines = lambda: [t for t, f in addon.light_setup.dark_settings(scene) if f == "BOUNCES"]  # noqa: E731
+    scene.cycles.volume_bounces, scene.cycles.max_bounces = 32, 1024
+    assert len(bounce_lines()) == 1 and "Volume Bounces is 32" in bounce_lines()[0], bounce_lines()
+    assert "about 54 % of its light" in bounce_lines()[0], bounce_lines()
+    scene.cycles.volume_bounces, scene.cycles.max_bounces = 512, 64  # Total caps it
+    assert len(bounce_lines()) == 1 and "Total bounces is 64" in bounce_lines()[0], bounce_lines()
+    assert "about 73 % of its light" in bounce_lines()[0], bounce_lines()
+    assert bpy.ops.cloudgen.fix_dark(what="BOUNCES") == {"FINISHED"}
+    assert (scene.cycles.volume_bounces, scene.cycles.max_bounces) == (512, 512)
+    assert bounce_lines() == []
+    scene.cycles.volume_bounces = scene.cycles.max_bounces = sl.LOW_CLOUD_BOUNCES
+    assert bounce_lines() == []
+    scene.cycles.volume_bounces = sl.LOW_CLOUD_BOUNCES - 1
+    assert len(bounce_lines()) == 1, bounce_lines()
+
+
 def test_add_cloud_raises_one_bounce(addon, scene):
     import bpy
 
