@@ -288,6 +288,11 @@ def camera_outside_fix(scene, cloud):
     return dist
 
 
+def _camera_lines(scene, cloud):
+    """What the scene camera does to a rendering cloud: Clip End cuts it off, or it stands inside."""
+    return [line for line in (clip_range(scene, cloud), camera_inside(scene, cloud)) if line]
+
+
 def problems(scene):
     """(empty, warnings): lines about the scene's clouds; `empty` are the clouds the render
     would show as nothing (a baked VDB not there, a procedural cloud where OSL cannot run or
@@ -320,11 +325,11 @@ def problems(scene):
             if cut is not None:
                 (empty if cut[0] else warnings).append(cut[1])
             if not absent:
-                warnings.extend(line for line in (clip_range(scene, cloud), camera_inside(scene, cloud)) if line)
+                warnings.extend(_camera_lines(scene, cloud))
             continue
         if not renders(cloud):
             continue
-        warnings.extend(line for line in (clip_range(scene, cloud), camera_inside(scene, cloud)) if line)
+        warnings.extend(_camera_lines(scene, cloud))
         if osl is None:
             osl = _osl_problem(scene) or ""
         if osl:

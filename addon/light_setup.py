@@ -90,16 +90,20 @@ def _eevee_outside(scene):
     return [(o, cut[1]) for o, cut in ((o, checks.eevee_range(scene, o)) for o in baked) if cut is not None]
 
 
-def _clipped(scene):
-    """[(cloud, line)]: the rendering clouds the camera's Clip End cuts off (checks.clip_range)."""
+def _rendering_clouds_where(scene, check):
+    """[(cloud, line)]: the rendering clouds for which `check(scene, cloud)` has a line."""
     clouds = [o for o in scene.objects if cloud_object.is_cloud(o) and checks.renders(o)]
-    return [(o, line) for o, line in ((o, checks.clip_range(scene, o)) for o in clouds) if line is not None]
+    return [(o, line) for o, line in ((o, check(scene, o)) for o in clouds) if line is not None]
+
+
+def _clipped(scene):
+    """The rendering clouds the camera's Clip End cuts off (checks.clip_range)."""
+    return _rendering_clouds_where(scene, checks.clip_range)
 
 
 def _camera_inside(scene):
-    """[(cloud, line)]: the rendering clouds whose box holds the scene camera (checks.camera_inside)."""
-    clouds = [o for o in scene.objects if cloud_object.is_cloud(o) and checks.renders(o)]
-    return [(o, line) for o, line in ((o, checks.camera_inside(scene, o)) for o in clouds) if line is not None]
+    """The rendering clouds whose box holds the scene camera (checks.camera_inside)."""
+    return _rendering_clouds_where(scene, checks.camera_inside)
 
 
 class CLOUDGEN_OT_fix_dark(bpy.types.Operator):

@@ -61,12 +61,11 @@ LOW_CLOUD_BOUNCES = 128  # below this a thick cloud loses more than a tenth of i
 
 def cumulus_light_share(bounces: int) -> float:
     """The default cumulus's light at `bounces` volume bounces as a share of its converged light:
-    CUMULUS_LIGHT_BY_BOUNCES interpolated in log2(bounces); 0 for no bounces, 1 from 1,024."""
+    CUMULUS_LIGHT_BY_BOUNCES interpolated in log2(bounces), 1 from 1,024. Measured from 4 up
+    only (below, the sidebar says "dark grey" and Add Cloud raises it): ValueError there."""
     table = CUMULUS_LIGHT_BY_BOUNCES
-    if bounces <= 0:
-        return 0.0
-    if bounces <= table[0][0]:
-        return table[0][1] * bounces / table[0][0]  # toward 0 bounces, as light with no scattering
+    if bounces < table[0][0]:
+        raise ValueError(f"bounces {bounces}: the cumulus's light was measured from {table[0][0]} up")
     for (b0, s0), (b1, s1) in zip(table, table[1:]):
         if bounces <= b1:
             t = (math.log2(bounces) - math.log2(b0)) / (math.log2(b1) - math.log2(b0))

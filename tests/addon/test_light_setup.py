@@ -106,13 +106,17 @@ def test_few_bounces_said_with_the_measured_share(addon, scene, cloud):
     """From 4 to sky_light.LOW_CLOUD_BOUNCES - 1 bounces (Volume, or Total capping it) the sidebar
     quotes the default cumulus's measured share of its light; its Fix raises both to
     CLOUD_BOUNCES; from LOW_CLOUD_BOUNCES up nothing is said. The share: the measured table,
-    interpolated in log2(bounces), monotone, 0 at no bounces and 1 at 1,024."""
+    interpolated in log2(bounces), monotone, the table's values at its rows, 1 at 1,024; below
+    4 (never quoted) not measured: ValueError."""
     import bpy
 
     sl = addon.sky_light
-    shares = [sl.cumulus_light_share(n) for n in range(0, 1100)]
-    assert shares[0] == 0.0 and shares[1024] == 1.0 and shares[32] == pytest.approx(0.544)
-    assert all(a <= b for a, b in zip(shares, shares[1:])), "the share falls somewhere"
+    shares = {n: sl.cumulus_light_share(n) for n in range(4, 1100)}
+    assert shares[1024] == 1.0 and shares[1099] == 1.0
+    assert all(shares[b] == pytest.approx(v) for b, v in sl.CUMULUS_LIGHT_BY_BOUNCES), shares
+    assert all(shares[n] <= shares[n + 1] for n in range(4, 1099)), "the share falls somewhere"
+    with pytest.raises(ValueError, match="measured from 4"):
+        sl.cumulus_light_share(3)
     bounce_lines = lambda: [t for t, f in addon.light_setup.dark_settings(scene) if f == "BOUNCES"]  # noqa: E731
     scene.cycles.volume_bounces, scene.cycles.max_bounces = 32, 1024
     assert len(bounce_lines()) == 1 and "Volume Bounces is 32" in bounce_lines()[0], bounce_lines()

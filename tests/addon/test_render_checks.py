@@ -192,8 +192,8 @@ def _in_frame(scene, cam, points):
 
 @pytest.mark.parametrize("parented", [False, True])
 def test_camera_inside_a_cloud_said_and_fixed(addon, scene, cloud, parented, tmp_path):
-    """A camera inside a cloud's box renders the cloud from within (dark: Add Cloud puts the
-    cumulonimbus's 180-unit box at the cursor, around Blender's startup camera): a warning before
+    """A camera inside a cloud's box renders fog from within the cloud, not its shape (Add Cloud
+    puts the cumulonimbus's 180-unit box at the cursor, around Blender's startup camera): a warning before
     the render, a line with a Fix in the sidebar. The Fix moves the camera back along its own
     view (rotation unchanged, exactly) until every corner of the box is in front of it and in the
     frame, and Clip End reaches the far corner; nothing is said afterwards. Measured: the frame's
@@ -271,3 +271,28 @@ def _cover(addon, scene, path):
     finally:
         bpy.data.images.remove(img)
     return float((lum > 0.1 * np.percentile(lum, 90)).mean())
+
+
+def test_orthographic_camera_moved_out_of_a_cloud(addon, scene, cloud):
+    """An orthographic camera inside a cloud's box: the Fix moves it back along its view, rotation
+    exact, until the whole box is in front of it beyond Clip Start, its centre on the view axis."""
+    import bpy
+    from mathutils import Vector
+
+    cam = bpy.data.objects.new("Ortho", bpy.data.cameras.new("Ortho"))
+    cam.data.type = "ORTHO"
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    cam.rotation_euler = (1.2, 0.0, 0.4)
+    cam.location = cloud.matrix_world @ Vector((0.1, 0.0, 0.0))
+    bpy.context.view_layer.update()
+    euler = tuple(cam.rotation_euler)
+    assert [f for _, f in addon.light_setup.dark_settings(scene) if f == "CAMERA_OUT"] == ["CAMERA_OUT"]
+    assert bpy.ops.cloudgen.fix_dark(what="CAMERA_OUT") == {"FINISHED"}
+    assert tuple(cam.rotation_euler) == euler
+    to_cam = cam.matrix_world.inverted()
+    local = [to_cam @ (cloud.matrix_world @ Vector(c)) for c in cloud.bound_box]
+    assert all(-q.z > cam.data.clip_start for q in local), [tuple(q) for q in local]
+    centre = sum(local, Vector()) / 8
+    assert abs(centre.x) < 1e-4 and abs(centre.y) < 1e-4, tuple(centre)
+    assert not [f for _, f in addon.light_setup.dark_settings(scene) if f in ("CAMERA_OUT", "CLIP_END")]
