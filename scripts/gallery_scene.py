@@ -43,6 +43,12 @@ COMPANION_VARIANTS = (
 # side views: companions out to this many times the main cloud's distance; with 14 out to 8 times
 # the sky under the main cloud was empty down to the horizon, where a real field closes up
 COMPANION_FAR = 20.0
+# the companions stand in clusters: CLUSTER_MEMBERS (fewest, most) around each centre, offset by a
+# Gaussian of CLUSTER_SPREAD_KM on the ground; a member that fits nowhere after CLUSTER_TRIES
+# draws ends its cluster
+CLUSTER_MEMBERS = (2, 6)
+CLUSTER_SPREAD_KM = 0.8
+CLUSTER_TRIES = 40
 # the main cloud's bake resolution as a multiple of --resolution: the cumulonimbus's box is 45 km
 # wide for its anvil, its tower a sixth of that (at 256 voxels a voxel would be 176 m)
 MAIN_RESOLUTION_SCALE = {"cumulonimbus": 2}
@@ -180,7 +186,14 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     (side) or around the main cloud (below), not overlapping each other or the main cloud,
     their lowest points at the main cloud's base height. Each is one of a few seeds, so each
     gets its own proportions too (x and y 0.75-1.5 of its scale, height 0.45-1.1): four
-    seeds at one aspect read as clones ("bread loaves", blind review round 5)."""
+    seeds at one aspect read as clones ("bread loaves", blind review round 5).
+
+    They stand in clusters (CLUSTER_MEMBERS around a centre, offsets a Gaussian of
+    CLUSTER_SPREAD_KM), as thermals group over warm ground, and side-on they may overlap in
+    the picture where they stand at about one distance (side by side, one bank) but never one
+    on top of another (_rects_stack). Until round 22 every centre was drawn on its own and no
+    two of similar picture size might touch: an evenly spaced field, "near-identical puffs on
+    a regular grid", "cloned stamps in regular rows" (rounds 21-22, both reviewers)."""
     if name not in COMPANIONS:
         return []
     _, _, (s_lo, s_hi) = COMPANIONS[name]
@@ -197,31 +210,39 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     rects = [_screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)]
     placed = []
     tries = 0
-    while len(placed) < count and tries < 5000:
+    members_left, cluster = 0, None
+    while len(placed) < count and tries < 8000:
         tries += 1
+        if members_left <= 0 or cluster[2] > CLUSTER_TRIES:
+            if view == "side":
+                y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
+                cluster = [rng.uniform(-1.2, 1.2) * y * tx, y, 0]
+            else:
+                cluster = [rng.uniform(-2.5, 2.5) * d, rng.uniform(-0.5, 4.0) * d + d, 0]
+            members_left = rng.randint(*CLUSTER_MEMBERS)
+        cluster[2] += 1
         s = s_lo * (s_hi / s_lo) ** rng.random()  # log-uniform: more small ones than big ones
         sx, sy, sz = (s * rng.uniform(0.75, 1.5), s * rng.uniform(0.75, 1.5), s * rng.uniform(0.45, 1.1))
         r = 0.5 * math.hypot(cx * sx, cy * sy)
-        if view == "side":
-            y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
-            x = rng.uniform(-1.2, 1.2) * y * tx
-        else:
-            y = rng.uniform(-0.5, 4.0) * d + d
-            x = rng.uniform(-2.5, 2.5) * d
+        x = cluster[0] + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
+        y = cluster[1] + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
+        if view == "side" and not (0.5 * d < y and abs(x) < 1.3 * y * tx):  # in the view wedge
+            continue
         if math.hypot(x - main_centre[0], y - main_centre[1]) < main_r + r:
             continue
         if view == "side" and y < d and abs(x) < main_r + r:  # in front of the main cloud
             continue
         if any(math.hypot(x - px, y - py) < 0.8 * (r + pr) for px, py, _, _, pr in placed):
             continue
-        if view == "side":  # no two bodies touching in the picture: a far one under a near one
-            rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)  # reads as one stacked cloud
-            if any(_rects_touch(rect, q) for q in rects):
+        if view == "side":  # a far body's top under a near one's base reads as one stacked cloud
+            rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)
+            if any(_rects_stack(rect, q) for q in rects):
                 continue
         if math.hypot(x, y) < r + km(0.3):  # not over the camera
             continue
         z = base + (0.5 - z0) * cz * sz
         placed.append((x, y, z, (sx, sy, sz), r))
+        members_left -= 1
         if view == "side":
             rects.append(rect)
     return [(x, y, z, sc, rng.uniform(0.0, 2 * math.pi)) for x, y, z, sc, _ in placed]
@@ -242,10 +263,13 @@ def _screen_rect(x, y, r, base, height, pitch):
     return min(us), max(us), min(vs), max(vs)
 
 
-def _rects_touch(a, b, margin=0.15, ratio=2.5) -> bool:
+def _rects_stack(a, b, margin=0.15, ratio=2.5, same_base=0.25) -> bool:
     """Whether two picture rectangles of similar width (within `ratio`) overlap once each is
-    shrunk by `margin` of its size (the rounded clouds fill their boxes' corners only partly).
-    A far cloud much smaller than a near one may pass behind it, as in a real field."""
+    shrunk by `margin` of its size (the rounded clouds fill their boxes' corners only partly)
+    and one stands on the other: their bottoms (the one base height at two distances) differ
+    by more than `same_base` of the lower one's height. Side by side at about one distance
+    they are one bank of cloud, as in a real field; a far cloud much smaller than a near one
+    may pass behind it."""
     wa, wb = a[1] - a[0], b[1] - b[0]
     if max(wa, wb) > ratio * min(wa, wb):
         return False
@@ -253,7 +277,10 @@ def _rects_touch(a, b, margin=0.15, ratio=2.5) -> bool:
         dx, dy = margin * (q[1] - q[0]) / 2, margin * (q[3] - q[2]) / 2
         return q[0] + dx, q[1] - dx, q[2] + dy, q[3] - dy
     (al, ar, ab, at), (bl, br, bb, bt) = shrunk(a), shrunk(b)
-    return al < br and bl < ar and ab < bt and bb < at
+    if not (al < br and bl < ar and ab < bt and bb < at):
+        return False
+    lower = a if a[2] < b[2] else b
+    return abs(a[2] - b[2]) > same_base * (lower[3] - lower[2])
 
 
 def widened(name, values):

@@ -1,6 +1,7 @@
 """The gallery's scene geometry (scripts/gallery_scene.py; no Blender needed): companion
-clouds each have their own proportions within the stated ranges (exact bounds), and side-on no
-two of similar picture size touch (the round-5 "snowman": a far cloud under a near one)."""
+clouds each have their own proportions within the stated ranges (exact bounds), and side-on none
+stands on another of similar picture size (the round-5 "snowman": a far cloud under a near one)
+while clusters overlap side by side (not the evenly spaced field of rounds 21-22)."""
 import math
 import random
 import sys
@@ -41,8 +42,27 @@ def test_companions_vary_and_do_not_stack(name, view):
         for x, y, _, (sx, sy, sz), _ in placed:
             r = 0.5 * np.hypot(comp["box_size"][0] * sx, comp["box_size"][1] * sy)
             rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
-            assert not any(gs._rects_touch(rect, q) for q in rects), (name, (x, y), rect)
+            assert not any(gs._rects_stack(rect, q) for q in rects), (name, (x, y), rect)
             rects.append(rect)
+        # banks: at least 60 % of the companions overlap another in the picture (exact count;
+        # the evenly spaced field of rounds 5-22 had 0 %, 13 % and 40 % for the cumulonimbus,
+        # congestus and cumulus, the clustered one 78 %, 75 % and 82 %)
+        banked = sum(any(_overlap(a, b) for j, b in enumerate(rects) if j != i) for i, a in enumerate(rects))
+        assert banked >= 0.6 * len(rects), (name, view, banked, len(rects))
+
+
+def _overlap(a, b):
+    return a[0] < b[1] and b[0] < a[1] and a[2] < b[3] and b[2] < a[3]
+
+
+def test_stacking_rule():
+    """_rects_stack (exact): side by side on one base line overlapping is a bank (allowed); one
+    over the other is a stack; much smaller behind passes; apart never stacks."""
+    near = (-1.0, 1.0, 0.0, 1.0)
+    assert not gs._rects_stack(near, (0.5, 2.5, 0.05, 1.05))        # one bank
+    assert gs._rects_stack(near, (0.0, 2.0, -0.6, 0.4))             # a cloud under another
+    assert not gs._rects_stack(near, (0.0, 0.5, -0.3, 0.2))         # 4x narrower: behind it
+    assert not gs._rects_stack(near, (3.0, 5.0, -0.6, 0.4))         # apart
 
 
 def test_file_numbers_do_not_depend_on_the_run():
