@@ -79,12 +79,18 @@ HALO_INNER_DEG = 0.5     # inside: a sharp edge (no light is deviated by less th
 # outside, read as "a darker disc with a hard rim"; at 4° the veil inside the ring read as a
 # bright disc. Real halos are a thin bright ring with a red inner edge, fading outward.
 HALO_OUTER_DEG = 2.5
-HALO_SKIRT_DEG, HALO_SKIRT_SHARE = 8.0, 0.35   # the skirt's width and its share of the peak
+# The skirt: its width and its share of the peak. 8° and 0.35 until gallery round 23: the sky
+# just outside the ring came out darker than just inside it (from below, 2° rings at 18-20 /
+# 26-28°: 129 / 120 at 320x180), and eight blind answers in a row (rounds 20-23) said "inside
+# the ring brighter than outside, the reverse of a real halo". At 12° and 0.6 (with the
+# cirrostratus's "halo" 3): 127 / 152, brighter outside for 8° and fading (docs/lighting.md).
+HALO_SKIRT_DEG, HALO_SKIRT_SHARE = 12.0, 0.6
 # the halo's phase function at the ring, 1/sr, over the veil's own: chosen on renders of the
 # cirrostratus from below (320x180): at 0.5 (about HG(g 0.75)'s own 0.49/sr at 22°) the ring
 # was as bright as a sunlit white surface and burnt out; at 0.15 it is a clear, thin ring that
 # adds about 10 display levels beside the sun's glow, as a bright halo in a thin veil looks.
-# A preset's "halo" scales it (the cirrostratus: 2.5, chosen on 320x180 renders with the thin ring)
+# A preset's "halo" scales it (the cirrostratus: 3; 2.5, chosen on 320x180 renders with the thin
+# ring, until round 23)
 HALO_PEAK_PER_SR = 0.15
 
 
