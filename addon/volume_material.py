@@ -80,10 +80,11 @@ HALO_INNER_DEG = 0.5     # inside: a sharp edge (no light is deviated by less th
 # bright disc. Real halos are a thin bright ring with a red inner edge, fading outward.
 HALO_OUTER_DEG = 2.5
 # The skirt: its width and its share of the peak. 8° and 0.35 until gallery round 23: the sky
-# just outside the ring came out darker than just inside it (from below, 2° rings at 18-20 /
-# 26-28°: 129 / 120 at 320x180), and eight blind answers in a row (rounds 20-23) said "inside
-# the ring brighter than outside, the reverse of a real halo". At 12° and 0.6 (with the
-# cirrostratus's "halo" 3): 127 / 152, brighter outside for 8° and fading (docs/lighting.md).
+# just outside the ring came out darker than just inside it (the gallery's cirrostratus from
+# below, 640x360, 2° rings at 18-20 / 26-28°: 126 / 122 display levels), and eight blind answers
+# in a row (rounds 20-23) said "inside the ring brighter than outside, the reverse of a real
+# halo". At 12° and 0.6 (with the cirrostratus's "halo" 3): 122 / 149, brighter outside for
+# about 12° and fading (docs/lighting.md, round 24).
 HALO_SKIRT_DEG, HALO_SKIRT_SHARE = 12.0, 0.6
 # the halo's phase function at the ring, 1/sr, over the veil's own: chosen on renders of the
 # cirrostratus from below (320x180): at 0.5 (about HG(g 0.75)'s own 0.49/sr at 22°) the ring

@@ -44,7 +44,7 @@ COMPANION_VARIANTS = (
 # the sky under the main cloud was empty down to the horizon, where a real field closes up
 COMPANION_FAR = 20.0
 # the companions stand in clusters: CLUSTER_MEMBERS (fewest, most) around each centre, offset by a
-# Gaussian of CLUSTER_SPREAD_KM on the ground; a member that fits nowhere after CLUSTER_TRIES
+# Gaussian of CLUSTER_SPREAD_KM on the ground; a member that fits nowhere in more than CLUSTER_TRIES
 # draws ends its cluster
 CLUSTER_MEMBERS = (2, 6)
 CLUSTER_SPREAD_KM = 0.8
@@ -210,22 +210,22 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     rects = [_screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)]
     placed = []
     tries = 0
-    members_left, cluster = 0, None
+    members_left = cluster_draws = 0
     while len(placed) < count and tries < 8000:
         tries += 1
-        if members_left <= 0 or cluster[2] > CLUSTER_TRIES:
+        if members_left <= 0 or cluster_draws > CLUSTER_TRIES:  # a new cluster's centre
             if view == "side":
-                y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
-                cluster = [rng.uniform(-1.2, 1.2) * y * tx, y, 0]
+                centre_y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
+                centre_x = rng.uniform(-1.2, 1.2) * centre_y * tx
             else:
-                cluster = [rng.uniform(-2.5, 2.5) * d, rng.uniform(-0.5, 4.0) * d + d, 0]
-            members_left = rng.randint(*CLUSTER_MEMBERS)
-        cluster[2] += 1
+                centre_x, centre_y = rng.uniform(-2.5, 2.5) * d, rng.uniform(-0.5, 4.0) * d + d
+            members_left, cluster_draws = rng.randint(*CLUSTER_MEMBERS), 0
+        cluster_draws += 1
         s = s_lo * (s_hi / s_lo) ** rng.random()  # log-uniform: more small ones than big ones
         sx, sy, sz = (s * rng.uniform(0.75, 1.5), s * rng.uniform(0.75, 1.5), s * rng.uniform(0.45, 1.1))
         r = 0.5 * math.hypot(cx * sx, cy * sy)
-        x = cluster[0] + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
-        y = cluster[1] + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
+        x = centre_x + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
+        y = centre_y + rng.gauss(0.0, km(CLUSTER_SPREAD_KM))
         if view == "side" and not (0.5 * d < y and abs(x) < 1.3 * y * tx):  # in the view wedge
             continue
         if math.hypot(x - main_centre[0], y - main_centre[1]) < main_r + r:
@@ -276,11 +276,15 @@ def _rects_stack(a, b, margin=0.15, ratio=2.5, same_base=0.25) -> bool:
     def shrunk(q):
         dx, dy = margin * (q[1] - q[0]) / 2, margin * (q[3] - q[2]) / 2
         return q[0] + dx, q[1] - dx, q[2] + dy, q[3] - dy
-    (al, ar, ab, at), (bl, br, bb, bt) = shrunk(a), shrunk(b)
-    if not (al < br and bl < ar and ab < bt and bb < at):
+    if not rects_overlap(shrunk(a), shrunk(b)):
         return False
     lower = a if a[2] < b[2] else b
     return abs(a[2] - b[2]) > same_base * (lower[3] - lower[2])
+
+
+def rects_overlap(a, b) -> bool:
+    """Whether two picture rectangles (left, right, bottom, top) overlap."""
+    return a[0] < b[1] and b[0] < a[1] and a[2] < b[3] and b[2] < a[3]
 
 
 def widened(name, values):

@@ -46,13 +46,9 @@ def test_companions_vary_and_do_not_stack(name, view):
             rects.append(rect)
         # banks: at least 60 % of the companions overlap another in the picture (exact count;
         # the evenly spaced field of rounds 5-22 had 0 %, 13 % and 40 % for the cumulonimbus,
-        # congestus and cumulus, the clustered one 78 %, 75 % and 82 %)
-        banked = sum(any(_overlap(a, b) for j, b in enumerate(rects) if j != i) for i, a in enumerate(rects))
+        # congestus and cumulus, the clustered one 98 %, 92 % and 88 %)
+        banked = sum(any(gs.rects_overlap(a, b) for j, b in enumerate(rects) if j != i) for i, a in enumerate(rects))
         assert banked >= 0.6 * len(rects), (name, view, banked, len(rects))
-
-
-def _overlap(a, b):
-    return a[0] < b[1] and b[0] < a[1] and a[2] < b[3] and b[2] < a[3]
 
 
 def test_stacking_rule():
