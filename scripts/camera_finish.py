@@ -4,8 +4,13 @@ absence first: "no grain, compression noise or lens character at all" (the rende
 between neighbouring pixels measured 0.44-0.6 display levels in 15 of 22 skies).
 
 The steps, in a camera's order, each a fixed physical-looking amount (not tuned per image):
-  1. vignetting: light falls off toward the corners (VIGNETTE_CORNER of the centre's, smooth
-     in the square of the distance from the centre), in scene-linear light;
+  1. vignetting: the scene's light falls off toward the corners (VIGNETTE_CORNER of the
+     centre's, smooth in the square of the distance from the centre). It is applied behind a
+     highlight shoulder (display light L = x / (1 + x) of scene light x, as a tone curve
+     compresses it): shadows and mid-tones fall by about VIGNETTE_CORNER, near-white much
+     less, and a clipped pixel stays white. Applied to display light itself (until round 24)
+     it took the sun's 255 down to 232 in a corner ("no pixel at pure white even with the sun
+     in frame", blind round 24);
   2. sensor noise: photon shot noise (variance proportional to the light) plus read noise,
      in scene-linear light, mostly shared by the three channels (luminance grain, the chroma
      noise a camera's own noise reduction leaves), correlated over about a pixel as demosaicing
@@ -13,9 +18,13 @@ The steps, in a camera's order, each a fixed physical-looking amount (not tuned 
      scene as a camera's program mode with auto-ISO would (iso_for_light): base ISO in
      daylight, the gain only for light more than PROGRAM_STOPS below full sun;
   3. in-camera sharpening: an unsharp mask on the display-encoded picture;
-  4. JPEG at quality JPEG_QUALITY with 4:2:0 chroma subsampling, as cameras write (at 90
-     a reviewer saw "blocky, posterised steps in the blue" of a smooth sky: the step across
-     8-pixel block edges measured 1.20-1.44 times the step inside a block; at 95, 1.07-1.20).
+  4. JPEG at quality JPEG_QUALITY without chroma subsampling, as a camera's finest setting
+     writes. The step across 8-pixel block edges, as a multiple of the step inside a block,
+     over the 22 gallery pictures (min / median / max; the PNG renders 0.95 / 1.00 / 1.05):
+     quality 90 4:2:0 1.20-1.44, a reviewer saw "blocky, posterised steps in the blue";
+     95 4:2:0 1.05 / 1.25 / 1.30, "an 8-pixel block grid" (blind round 24); 97 4:4:4
+     1.00 / 1.14 / 1.16; 98 4:4:4 0.97 / 1.06 / 1.09, 92 kB a picture.
+  Pixels clipped in the render (255) stay clipped: a saturated photosite has no grain.
 
 The render itself (the PNG) is kept: measurements (levels, clipping, profiles) are taken on it,
 never on the finished JPEG. The add-on does not apply this; it is the gallery's camera.
@@ -62,7 +71,8 @@ PROGRAM_STOPS = 4.0
 # luminance grain
 CHROMA_SHARE = 0.2
 SHARPEN_AMOUNT, SHARPEN_SIGMA = 0.5, 1.0  # unsharp mask: amount, Gaussian radius (pixels)
-JPEG_QUALITY = 95
+JPEG_QUALITY = 98
+JPEG_SUBSAMPLING = 0  # Pillow's 4:4:4: no chroma subsampling
 
 
 def srgb_to_linear(v):
@@ -111,6 +121,13 @@ def _check_iso(iso):
         raise ValueError(f"camera_finish: iso must be a number in [{ISO_RANGE[0]:g}, {ISO_RANGE[1]:g}], got {iso!r}")
 
 
+def vignette(lin, falloff):
+    """Display-linear light `lin` (in [0, 1]) with the scene's light scaled by `falloff` (in
+    (0, 1]) behind the shoulder L = x / (1 + x): L' = f L / (1 - L + f L). Mid-grey 0.18 at
+    f = 0.8 becomes 0.149 (0.83 of it), 0.9 becomes 0.878, and 1 stays 1."""
+    return falloff * lin / (1.0 - lin + falloff * lin)
+
+
 def finish(rgb8, seed, iso=BASE_ISO):
     """The finished picture (uint8, h x w x 3) of a display-encoded uint8 render, before the
     JPEG step, with the grain of `iso` (in ISO_RANGE). Deterministic for a seed."""
@@ -118,16 +135,18 @@ def finish(rgb8, seed, iso=BASE_ISO):
         raise ValueError(f"camera_finish: expected an h x w x 3 uint8 picture, got {rgb8.shape} {rgb8.dtype}")
     _check_iso(iso)
     h, w, _ = rgb8.shape
+    clipped = rgb8 == 255
     lin = srgb_to_linear(rgb8.astype(np.float64) / 255.0)
     yy, xx = np.mgrid[0:h, 0:w]
     r2 = ((xx - 0.5 * (w - 1)) ** 2 + (yy - 0.5 * (h - 1)) ** 2) / (0.25 * ((w - 1) ** 2 + (h - 1) ** 2))
-    lin = lin * (1.0 - (1.0 - VIGNETTE_CORNER) * r2)[..., None]
+    lin = vignette(lin, (1.0 - (1.0 - VIGNETTE_CORNER) * r2)[..., None])
     rng = np.random.default_rng(seed)
     shared = _correlated_noise(rng, (h, w))[..., None]
     own = _correlated_noise(rng, (h, w, 3))
     unit = np.sqrt(1.0 - CHROMA_SHARE ** 2) * shared + CHROMA_SHARE * own
     gain = iso / BASE_ISO
     lin = lin + np.sqrt(gain * SHOT * np.clip(lin, 0.0, None) + (gain * READ) ** 2) * unit
+    lin = np.where(clipped, 1.0, lin)
     disp = srgb_encode(lin)
     disp = disp + SHARPEN_AMOUNT * (disp - _blur(disp, SHARPEN_SIGMA))
     return (np.clip(disp, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
@@ -147,7 +166,8 @@ def finish_file(src, dst, seed=None, iso=BASE_ISO):
     with Image.open(src) as im:
         rgb8 = np.asarray(im.convert("RGB"))
     jpeg = io.BytesIO()
-    Image.fromarray(finish(rgb8, seed, iso)).save(jpeg, format="JPEG", quality=JPEG_QUALITY, subsampling=2)
+    Image.fromarray(finish(rgb8, seed, iso)).save(jpeg, format="JPEG", quality=JPEG_QUALITY,
+                                            subsampling=JPEG_SUBSAMPLING)
     atomic_write(dst, jpeg.getvalue())
 
 
