@@ -211,7 +211,7 @@ def shot(name, view, sun, values, baked, out_png, args):
             import cloudgen_native as cn
 
             comp = gs.COMPANIONS[name][0]
-            cv = dict(cn.defaults(), **cn.presets()[comp]["params"])
+            cv = [gs.companion_values(name, k) for k in range(len(baked["companions"]))]
             cmat = bpy.data.materials.new("Companion")
             render_cloud._addon_file("volume_material").volume_material(
                 cmat, dict(cn.presets()[comp].get("material", {})), grid="density", phase="AUTO", step_rate=1.0)

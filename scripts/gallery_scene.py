@@ -30,15 +30,36 @@ BASE_KM = {"cumulus": 1.2, "cumulus_congestus": 1.2, "cumulonimbus": 1.0, "strat
 COMPANIONS = {"cumulus": ("cumulus", (100, 24), (0.3, 1.1)),
               "cumulus_congestus": ("cumulus", (60, 20), (0.35, 1.1)),
               "cumulonimbus": ("cumulus", (40, 16), (0.5, 1.4))}
-# each companion bake: a seed and what it changes of the preset, so that the field is not one
-# template ("cloned cotton-ball shapes", rounds 12-13): flat humilis, ragged, towering, lumpy
+
+
+def _curve(fn):
+    """A 17-sample height curve (Shape Curve: the squared radius at heights 0..1) from fn(h)."""
+    return [round(max(0.0, fn(i / 16.0)), 3) for i in range(17)]
+
+
+def _capped(r2, flat, power=2.0):
+    """Squared radius r2 up to height `flat`, then a top rounded as 1 - t^power."""
+    return _curve(lambda h: r2 if h < flat else r2 * (1.0 - ((h - flat) / (1.0 - flat)) ** power))
+
+
+# each companion bake: a seed, a body of its own (Shape Curve) and what else it changes of the
+# preset, so that the field is not one template. Until round 24 the variants changed only the
+# noise and all six kept the preset's dome: their silhouettes (a projection through the box) were
+# one shape, and every blind round named them "cloned cotton-balls", "pills", "stickers". Now:
+# the preset, a flat humilis cap, a narrow ragged one, a small tower, one leaning in the wind
+# shear, and a body with one turret on it (distortion lowered where it would fill the body out
+# to the preset's dome again). No body is widest at its base: a cap widest there, or a broad
+# base under a turret, came out side-on as a hat with a brim (round 25 trial)
 COMPANION_VARIANTS = (
     {},
-    {"turret_influence": 0.15, "distortion": 0.8},
-    {"edge_sharpness": 0.55, "noise_influence": 0.55, "density": 1.6},
-    {"turret_influence": 0.65, "distortion": 1.5},
-    {"worley_clump": 0.9, "turret_scale": 3.5},
-    {"turret_influence": 0.3, "noise_influence": 0.45, "edge_sharpness": 0.75},
+    {"shape_curve": _capped(0.75, 0.1), "turret_influence": 0.15, "distortion": 0.7},
+    {"shape_curve": _capped(0.3, 0.2), "edge_sharpness": 0.55, "noise_influence": 0.55, "density": 1.6,
+     "distortion": 0.9},
+    {"shape_curve": _capped(0.2, 0.7), "turret_influence": 0.65, "distortion": 0.9},
+    {"shape_curve": _capped(0.35, 0.3, 1.5), "lean": 0.5, "worley_clump": 0.9, "turret_scale": 3.5,
+     "distortion": 0.9},
+    {"shape_curve": _curve(lambda h: 0.45 if h < 0.35 else max(0.45 - 2.7 * (h - 0.35), 0.18 * (1.0 - ((h - 0.45) / 0.55) ** 2))),
+     "turret_influence": 0.3, "noise_influence": 0.45, "edge_sharpness": 0.75, "distortion": 0.8},
 )
 # side views: companions out to this many times the main cloud's distance; with 14 out to 8 times
 # the sky under the main cloud was empty down to the horizon, where a real field closes up
@@ -182,7 +203,8 @@ def compact_view(name, values, view, width, height):
 
 
 def companions(name, main_values, comp_values, main_centre, view, width, height, rng):
-    """[(x, y, z, (sx, sy, sz), rot_z)] of the companion clouds: in the camera's view wedge
+    """[(x, y, z, (sx, sy, sz), rot_z)] of the companion clouds, companion i baked from
+    comp_values[i % len(comp_values)] (a list of variants' values, or one dict): in the camera's view wedge
     (side) or around the main cloud (below), not overlapping each other or the main cloud,
     their lowest points at the main cloud's base height. Each is one of a few seeds, so each
     gets its own proportions too (x and y 0.75-1.5 of its scale, height 0.45-1.1): four
@@ -199,8 +221,8 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     _, _, (s_lo, s_hi) = COMPANIONS[name]
     count = companion_count(name, view)
     mx, my, _ = main_values["box_size"]
-    cx, cy, cz = comp_values["box_size"]
-    z0, z1 = vertical_extent(comp_values)
+    variants = comp_values if isinstance(comp_values, (list, tuple)) else [comp_values]
+    extents = [vertical_extent(v) for v in variants]
     base = km(BASE_KM.get(name, 1.2))
     tx, ty = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
     main_r = 0.5 * math.hypot(mx, my)
@@ -221,6 +243,8 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
                 centre_x, centre_y = rng.uniform(-2.5, 2.5) * d, rng.uniform(-0.5, 4.0) * d + d
             members_left, cluster_draws = rng.randint(*CLUSTER_MEMBERS), 0
         cluster_draws += 1
+        cx, cy, cz = variants[len(placed) % len(variants)]["box_size"]
+        z0, z1 = extents[len(placed) % len(variants)]
         s = s_lo * (s_hi / s_lo) ** rng.random()  # log-uniform: more small ones than big ones
         sx, sy, sz = (s * rng.uniform(0.75, 1.5), s * rng.uniform(0.75, 1.5), s * rng.uniform(0.45, 1.1))
         r = 0.5 * math.hypot(cx * sx, cy * sy)
