@@ -10,7 +10,7 @@ photographs show distance. Everything here is Blender's own data (a grid mesh wi
 modifier and a Clouds texture, a Principled BSDF, a box with a Volume Scatter) that an artist
 can edit, and that renders in any Blender with Cycles — no add-on needed.
 
-Scale: the cloud presets are sized at METRES_PER_UNIT metres per scene unit (the cumulus box
+Scale: the cloud presets are sized at METRES_PER_UNIT metres per scene unit (the cumulus
 is 1 km wide), and so is this landscape:
 - ground: a square TERRAIN_HALF_KM in half-width around `centre`, flat within CLEAR_KM of it
   (the camera stands there) and rising into hills of up to HILL_KM beyond RISE_KM, features

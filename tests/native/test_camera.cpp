@@ -15,6 +15,15 @@ using cg::vec3;
 
 using cgtest::preset;
 
+// The cumulus preset in a 4 x 4 x 2.4 box (its box until 2026-11-29): the geometry below is
+// worked out for that box, whatever the preset's box is now.
+cg::Params cumulus_in_4x4_box() {
+  cg::Params p = preset("cumulus");
+  const float box[3] = {4.0f, 4.0f, 2.4f};
+  p.set(cg::BOX_SIZE, box, 3);
+  return p;
+}
+
 // A camera at `eye` looking along +y (Blender: rotation X = 90°), given as JSON.
 std::string camera_json(vec3 eye, double tan_x, double tan_y, int w, int h, const std::string& extra = "") {
   char buf[512];
@@ -26,9 +35,9 @@ std::string camera_json(vec3 eye, double tan_x, double tan_y, int w, int h, cons
 }
 
 TEST(Camera, NearestDepthAndFootprintOfABoxInFullView) {
-  // Cumulus box 4 x 4 x 3 centred at the origin, camera 8 units in front of
+  // Cumulus box 4 x 4 x 2.4 centred at the origin, camera 8 units in front of
   // its centre: the nearest visible point is the near face, depth 8 - 2 = 6.
-  const cg::Model m = cg::prepare(preset("cumulus"));
+  const cg::Model m = cg::prepare(cumulus_in_4x4_box());
   const cg::CameraView c = cg::parse_camera(camera_json({0, -8, 0}, 0.5, 0.375, 400, 300));
   const cg::CameraFit fit = cg::fit_camera(m, c);
   ASSERT_TRUE(fit.visible);
@@ -43,7 +52,7 @@ TEST(Camera, NarrowViewOfTheBoxEdgeUsesTheVisiblePartOnly) {
   // Looking past the box: the view only grazes the far half of the box's
   // right side, so the nearest *visible* point is farther than the box's
   // nearest point (the near face at depth 6 is outside the view).
-  const cg::Model m = cg::prepare(preset("cumulus"));
+  const cg::Model m = cg::prepare(cumulus_in_4x4_box());
   // Camera at x = 3 (outside the box's x range [-2, 2]) looking along +y with
   // a narrow view (tan 0.125): the view reaches x = 2 only at depth (3-2)/0.125 = 8.
   const cg::CameraView c = cg::parse_camera(camera_json({3, -8, 0}, 0.125, 0.125, 100, 100));
@@ -53,7 +62,7 @@ TEST(Camera, NarrowViewOfTheBoxEdgeUsesTheVisiblePartOnly) {
 }
 
 TEST(Camera, CloudOutsideTheViewIsNotVisibleAndBakesNothing) {
-  const cg::Model m = cg::prepare(preset("cumulus"));
+  const cg::Model m = cg::prepare(cumulus_in_4x4_box());
   // Looking away (+y camera at y = -8 turned around: rotation X = -90°).
   const std::string json =
       "{\"camera_to_cloud\": [[1,0,0,0],[0,0,1,-8],[0,-1,0,0],[0,0,0,1]], \"tan_half_fov\": [0.5, 0.4],"
@@ -75,7 +84,7 @@ TEST(Camera, RegionBakeEqualsTheFullBakeInsideTheView) {
   // A narrow view of the cumulus: tiles the region keeps hold exactly the
   // values of the full bake (same grid, same LOD); culled tiles are outside.
   // Cloud Scale 1: the cloud reaches the box's sides, so the culled tiles hold cloud
-  // (at the preset's 0.75 the view's margin culls only tiles the shape bound skips anyway).
+  // (at the preset's smaller Cloud Scale the view's margin culls only tiles the shape bound skips anyway).
   cg::Params p = preset("cumulus");
   p.set(cg::CLOUD_SCALE, 1.0f);
   const cg::Model m = cg::prepare(p);

@@ -9,11 +9,23 @@ from test_cli import REPO_ROOT, TIMEOUT, events, info_json
 from test_cli import run as run_cli
 
 TIERS_FILE = REPO_ROOT / "native" / "presets" / "tiers.json"
-# the cumulus preset's box_size (origin at the centre) and Density, from the one declaration of the presets
+# The cloud the camera bake tests work out by hand (depths, footprints, exact voxel counts): the
+# cumulus preset in a 4 x 4 x 2.4 box at Cloud Scale 0.9, its box until 2026-11-29 (now 5 x 5 x 3
+# at 0.72, the same field with room above it). The tests pass it with --params (cumulus_args);
+# CUMULUS_BOX (origin at the centre) and the Density are that cloud's.
 _CUMULUS = json.loads((REPO_ROOT / "native" / "presets" / "clouds.json").read_text())["cumulus"]["params"]
-CUMULUS_BOX = tuple(_CUMULUS["box_size"])
+CUMULUS_4X4 = {"preset": "cumulus", "box_size": [4.0, 4.0, 2.4], "cloud_scale": 0.9}
+CUMULUS_BOX = tuple(CUMULUS_4X4["box_size"])
 CUMULUS_DENSITY = _CUMULUS["density"]
 LONGEST = max(CUMULUS_BOX)
+
+
+def cumulus_args(out_dir):
+    """("--params", FILE): CUMULUS_4X4 written to FILE beside a test's output folder (not in it:
+    the tests list that folder to find partial files)."""
+    path = out_dir.parent / "cumulus_4x4.json"
+    path.write_text(json.dumps(CUMULUS_4X4))
+    return ("--params", str(path))
 
 # camera_to_cloud of a camera at (0, y, 0) rotated X = +90 degrees (Blender convention):
 # camera -Z maps to cloud +y (looks along +y), camera +Y to cloud +z (up).

@@ -5,7 +5,8 @@ tolerance; failures print the inputs."""
 
 import numpy as np
 import pytest
-from cli_bake_helpers import CUMULUS_BOX, CUMULUS_DENSITY, LONGEST, NARROW, camera_lines, grid, looking_along_y, run
+from cli_bake_helpers import (CUMULUS_4X4, CUMULUS_BOX, CUMULUS_DENSITY, LONGEST, NARROW, camera_lines, cumulus_args,
+                              grid, looking_along_y, run)
 from test_cli import expect_usage_error, listing
 from vdb_voxels import read_voxels
 
@@ -20,12 +21,12 @@ FOV_CASES = [([0.36, 0.27], [40, 30]), ([0.5, 0.27], [40, 30])]
 def test_camera_voxel_is_the_pixel_footprint_at_the_nearest_depth(fov, res, inputs, out_dir):
     cam = {"camera_to_cloud": looking_along_y(-8.0), "tan_half_fov": fov, "resolution": res}
     out = out_dir / "cam.vdb"
-    r = run("bake", "--preset", "cumulus", "--camera", inputs(cam), "--output", out)
+    r = run("bake", *cumulus_args(out_dir), "--camera", inputs(cam), "--output", out)
     fit, (voxel, visible, total) = camera_lines(r)
     assert fit is not None, r.stdout
     depth, footprint, fit_voxel, margin = fit
-    # Hand computation: the eye at y=-8, the front face of the 4x4x3 box at y=-2 (inside the
-    # view: half width 0.36*6 > 2, half height 0.27*6 > 1.5) -> depth 6.
+    # Hand computation: the eye at y=-8, the front face of the 4x4x2.4 box at y=-2 (inside the
+    # view: half width 0.36*6 > 2, half height 0.27*6 > 1.2) -> depth 6.
     expected_depth = 6.0
     expected_fp = 2 * expected_depth * min(fov[0] / res[0], fov[1] / res[1])
     # Default margin (camera.h): 16 / peak extinction, extinction = Density x 20 per unit,
@@ -43,8 +44,8 @@ def test_camera_voxel_is_the_pixel_footprint_at_the_nearest_depth(fov, res, inpu
 
 def test_camera_pixels_per_voxel_and_margin(inputs, out_dir):
     base = {"camera_to_cloud": looking_along_y(-8.0), "tan_half_fov": [0.36, 0.27], "resolution": [40, 30]}
-    r1 = run("bake", "--preset", "cumulus", "--camera", inputs(base, "a.json"), "--output", out_dir / "a.vdb")
-    r2 = run("bake", "--preset", "cumulus", "--camera", inputs({**base, "pixels_per_voxel": 2, "margin": 0.5},
+    r1 = run("bake", *cumulus_args(out_dir), "--camera", inputs(base, "a.json"), "--output", out_dir / "a.vdb")
+    r2 = run("bake", *cumulus_args(out_dir), "--camera", inputs({**base, "pixels_per_voxel": 2, "margin": 0.5},
                                                               "b.json"), "--output", out_dir / "b.vdb")
     (_, fp1, v1, _), _ = camera_lines(r1)
     (_, fp2, v2, m2), _ = camera_lines(r2)
@@ -61,7 +62,7 @@ def test_camera_resolution_caps_the_voxel(inputs, out_dir):
     # is finer than the camera and leaves 0.108. Tolerance 1e-6 relative.
     for cap, expected in ((16, LONGEST / 16), (48, 0.108)):
         out = out_dir / f"cap{cap}.vdb"
-        r = run("bake", "--preset", "cumulus", "--camera", cam, "--resolution", cap, "--output", out)
+        r = run("bake", *cumulus_args(out_dir), "--camera", cam, "--resolution", cap, "--output", out)
         _, (voxel, _, _) = camera_lines(r)
         g = grid(out)
         assert g["voxel_size"][0] >= LONGEST / cap * (1 - 1e-6), (cap, g["voxel_size"])
@@ -80,7 +81,7 @@ def test_camera_inside_the_box_needs_the_cap(inputs, out_dir):
     r = run("bake", "--params", thin, "--camera", cam, "--max-memory", 0.05, "--output", out_dir / "x.vdb")
     expect_usage_error(r, "--camera", "GiB", "--max-memory")
     assert listing(out_dir) == []
-    r = run("bake", "--preset", "cumulus", "--camera", cam, "--resolution", 32, "--output", out_dir / "x.vdb")
+    r = run("bake", *cumulus_args(out_dir), "--camera", cam, "--resolution", 32, "--output", out_dir / "x.vdb")
     fit, (voxel, visible, total) = camera_lines(r)
     assert fit is not None and fit[0] == pytest.approx(0.5, rel=1e-3), r.stdout  # depth = near clip
     assert voxel == pytest.approx(LONGEST / 32, rel=1e-3), r.stdout
@@ -90,7 +91,7 @@ def test_camera_looking_away_bakes_an_empty_file(inputs, out_dir):
     cam = inputs({"camera_to_cloud": looking_along_y(-8.0, sign=-1), "tan_half_fov": [0.36, 0.27],
                   "resolution": [40, 30]})
     out = out_dir / "away.vdb"
-    r = run("bake", "--preset", "cumulus", "--camera", cam, "--output", out)
+    r = run("bake", *cumulus_args(out_dir), "--camera", cam, "--output", out)
     assert r.returncode == 0, (r.stdout, r.stderr)
     fit, (_, visible, total) = camera_lines(r)
     assert fit is None and visible == 0 and total > 0, r.stdout  # the cloud box is outside the view
@@ -104,11 +105,11 @@ def test_narrow_camera_bakes_a_subset_of_the_uniform_bake(inputs, out_dir):
     bake with a bit-identical value; every uniform voxel whose centre is inside the view is
     in the camera bake (its tile intersects the frustum, margin 0)."""
     cam_out, uni_out = out_dir / "cam.vdb", out_dir / "uni.vdb"
-    r = run("bake", "--preset", "cumulus", "--camera", inputs(NARROW), "--output", cam_out)
+    r = run("bake", *cumulus_args(out_dir), "--camera", inputs(NARROW), "--output", cam_out)
     fit, (voxel, visible, total) = camera_lines(r)
     assert fit[0] == 4.0 and voxel == 0.125, r.stdout  # exact (printed %g of exact binary values)
     assert 0 < visible < total, r.stdout
-    r = run("bake", "--preset", "cumulus", "--resolution", 32, "--output", uni_out, "--quiet")
+    r = run("bake", *cumulus_args(out_dir), "--resolution", 32, "--output", uni_out, "--quiet")
     assert r.returncode == 0, r.stderr
     cam_vox, cam_origin, cam_size = read_voxels(cam_out)
     uni_vox, uni_origin, uni_size = read_voxels(uni_out)
@@ -138,7 +139,7 @@ def test_lod_bake_equals_module_density_with_footprint(out_dir):
     # of the cell (float32, per axis: the part [max(lo, -B/2), min(hi, B/2)]).
     cn = pytest.importorskip("cloudgen_native")
     out = out_dir / "u.vdb"
-    r = run("bake", "--preset", "cumulus", "--resolution", 32, "--output", out, "--quiet")
+    r = run("bake", *cumulus_args(out_dir), "--resolution", 32, "--output", out, "--quiet")
     assert r.returncode == 0, r.stderr
     vox, _, _ = read_voxels(out)
     coords = np.array(sorted(vox), dtype=np.float32)
@@ -156,7 +157,7 @@ def test_lod_bake_equals_module_density_with_footprint(out_dir):
     points = np.where(clipped, part_lo + np.float32(0.5) * (part_hi - part_lo), centres).astype(np.float32)
     fraction = np.where(clipped, (part_hi - part_lo) / v, np.float32(1)).astype(np.float32)
     share = fraction[:, 0] * fraction[:, 1] * fraction[:, 2]
-    got = cn.density({"preset": "cumulus"}, points, footprint=float(v)) * share
+    got = cn.density(CUMULUS_4X4, points, footprint=float(v)) * share
     assert np.any(clipped), "no cell overhangs the box: the rule is not tested"
     bad = np.flatnonzero(got != values)
     assert bad.size == 0, [(coords[i].tolist(), float(values[i]), float(got[i])) for i in bad[:5]]
@@ -165,9 +166,9 @@ def test_lod_bake_equals_module_density_with_footprint(out_dir):
 def test_light_directions_keep_more_tiles(inputs, out_dir):
     # margin 0: without lights only the view frustum; with a sun above and to the side the
     # frustum is swept towards it (shadow casters kept). Exact counts compared.
-    r0 = run("bake", "--preset", "cumulus", "--camera", inputs(NARROW, "n0.json"), "--output", out_dir / "n0.vdb")
+    r0 = run("bake", *cumulus_args(out_dir), "--camera", inputs(NARROW, "n0.json"), "--output", out_dir / "n0.vdb")
     lit = {**NARROW, "light_directions": [[0.3, 0.2, 1.0]]}
-    r1 = run("bake", "--preset", "cumulus", "--camera", inputs(lit, "n1.json"), "--output", out_dir / "n1.vdb")
+    r1 = run("bake", *cumulus_args(out_dir), "--camera", inputs(lit, "n1.json"), "--output", out_dir / "n1.vdb")
     _, (v0, vis0, tot0) = camera_lines(r0)
     _, (v1, vis1, tot1) = camera_lines(r1)
     assert v0 == v1 and tot0 == tot1, (r0.stdout, r1.stdout)
@@ -195,13 +196,13 @@ BAD_CAMERAS = [
 @pytest.mark.parametrize("case,content,words", BAD_CAMERAS, ids=[c[0] for c in BAD_CAMERAS])
 def test_bad_camera_files(case, content, words, inputs, out_dir):
     path = inputs(content, "cam.json")
-    r = run("bake", "--preset", "cumulus", "--camera", path, "--output", out_dir / "x.vdb")
+    r = run("bake", *cumulus_args(out_dir), "--camera", path, "--output", out_dir / "x.vdb")
     expect_usage_error(r, "--camera", *words)
     assert listing(out_dir) == []
 
 
 def test_missing_camera_file(out_dir):
-    r = run("bake", "--preset", "cumulus", "--camera", out_dir / "nope.json", "--output", out_dir / "x.vdb")
+    r = run("bake", *cumulus_args(out_dir), "--camera", out_dir / "nope.json", "--output", out_dir / "x.vdb")
     expect_usage_error(r, "--camera", "nope.json")
     assert listing(out_dir) == []
 

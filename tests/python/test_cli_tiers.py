@@ -4,9 +4,11 @@ import json
 
 import pytest
 from cli_bake_helpers import (
+    CUMULUS_4X4,
     LONGEST,
     TIERS_FILE,
     bake_keys,
+    cumulus_args,
     grid,
     run,
 )
@@ -42,7 +44,7 @@ def test_tiers_refuses_unknown_option():
 def test_bake_quality_draft_takes_the_tier_settings(out_dir):
     tier = json.loads(TIERS_FILE.read_text())["draft"]["bake"]
     out = out_dir / "draft.vdb"
-    r = run("bake", "--preset", "cumulus", "--quality", "draft", "--output", out)
+    r = run("bake", *cumulus_args(out_dir), "--quality", "draft", "--output", out)
     assert r.returncode == 0, (r.stdout, r.stderr)
     g = grid(out)
     # Voxel = longest side / tier resolution. Tolerance 1e-9 relative (float32 of 4/64 is exact).
@@ -64,7 +66,7 @@ def test_explicit_options_win_over_the_tier(out_dir):
     # below the draft tolerance) is what --tolerance 0 must keep; the preset's sharp edge leaves almost
     # none at 16 voxels, and at the preset's density 2.4 no sampled rim value falls below the tolerance
     soft = out_dir / "soft_cumulus.json"
-    soft.write_text(json.dumps({"preset": "cumulus", "edge_sharpness": 0.0, "density": 0.8}))
+    soft.write_text(json.dumps(dict(CUMULUS_4X4, edge_sharpness=0.0, density=0.8)))
     out = out_dir / "d16.vdb"
     r = run("bake", "--params", soft, "--quality", "draft", "--resolution", 16, "--output", out, "--quiet")
     assert r.returncode == 0, r.stderr
