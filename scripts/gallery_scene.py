@@ -42,6 +42,14 @@ def _capped(r2, flat, power=2.0):
     return _curve(lambda h: r2 if h < flat else r2 * (1.0 - ((h - flat) / (1.0 - flat)) ** power))
 
 
+def _turret_on_body(h):
+    """A body of squared radius 0.45 up to 35 % of the height, narrowing steeply into a turret of
+    0.18 that rounds off at the top."""
+    if h < 0.35:
+        return 0.45
+    return max(0.45 - 2.7 * (h - 0.35), 0.18 * (1.0 - ((h - 0.45) / 0.55) ** 2))
+
+
 # each companion bake: a seed, a body of its own (Shape Curve) and what else it changes of the
 # preset, so that the field is not one template. Until round 24 the variants changed only the
 # noise and all six kept the preset's dome: their silhouettes (a projection through the box) were
@@ -58,7 +66,7 @@ COMPANION_VARIANTS = (
     {"shape_curve": _capped(0.2, 0.7), "turret_influence": 0.65, "distortion": 0.9},
     {"shape_curve": _capped(0.35, 0.3, 1.5), "lean": 0.5, "worley_clump": 0.9, "turret_scale": 3.5,
      "distortion": 0.9},
-    {"shape_curve": _curve(lambda h: 0.45 if h < 0.35 else max(0.45 - 2.7 * (h - 0.35), 0.18 * (1.0 - ((h - 0.45) / 0.55) ** 2))),
+    {"shape_curve": _curve(_turret_on_body),
      "turret_influence": 0.3, "noise_influence": 0.45, "edge_sharpness": 0.75, "distortion": 0.8},
 )
 # side views: companions out to this many times the main cloud's distance; with 14 out to 8 times

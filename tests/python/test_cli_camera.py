@@ -5,8 +5,18 @@ tolerance; failures print the inputs."""
 
 import numpy as np
 import pytest
-from cli_bake_helpers import (CUMULUS_4X4, CUMULUS_BOX, CUMULUS_DENSITY, LONGEST, NARROW, camera_lines, cumulus_args,
-                              grid, looking_along_y, run)
+from cli_bake_helpers import (
+    CUMULUS_4X4,
+    CUMULUS_BOX,
+    CUMULUS_DENSITY,
+    LONGEST,
+    NARROW,
+    camera_lines,
+    cumulus_args,
+    grid,
+    looking_along_y,
+    run,
+)
 from test_cli import expect_usage_error, listing
 from vdb_voxels import read_voxels
 

@@ -5,7 +5,6 @@ h = 1), so the bake and the OSL box cut them flat: 20 % and 10 % of the top row 
 cross-section was cloud, seen in the main job's render and the gallery as a flat-topped dome.
 Tolerance: exact (the density on a face is 0)."""
 import cloudgen_native as cn
-import numpy as np
 import pytest
 
 COMPACT = sorted(name for name, p in cn.presets().items() if not p["params"].get("sheet", 0.0))
