@@ -219,9 +219,10 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     seeds at one aspect read as clones ("bread loaves", blind review round 5).
 
     They stand in clusters (CLUSTER_MEMBERS around a centre, offsets a Gaussian of
-    CLUSTER_SPREAD_KM), as thermals group over warm ground, and side-on they may overlap in
-    the picture where they stand at about one distance (side by side, one bank) but never one
-    on top of another (_rects_stack). Until round 22 every centre was drawn on its own and no
+    CLUSTER_SPREAD_KM), as thermals group over warm ground, and they may overlap in the
+    picture where they stand at about one distance (side by side, one bank) but never one on
+    top of another (_rects_stack; side-on since round 5, from below since round 25). Until
+    round 22 every centre was drawn on its own and no
     two of similar picture size might touch: an evenly spaced field, "near-identical puffs on
     a regular grid", "cloned stamps in regular rows" (rounds 21-22, both reviewers)."""
     if name not in COMPANIONS:
@@ -235,7 +236,7 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     tx, ty = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
     main_r = 0.5 * math.hypot(mx, my)
     d = main_centre[1]
-    pitch = pitch_for_horizon(ty)
+    pitch = compact_view(name, main_values, view, width, height)[2]
     mz0, mz1 = vertical_extent(main_values)
     rects = [_screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)]
     placed = []
@@ -266,30 +267,33 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
             continue
         if any(math.hypot(x - px, y - py) < 0.8 * (r + pr) for px, py, _, _, pr in placed):
             continue
-        if view == "side":  # a far body's top under a near one's base reads as one stacked cloud
-            rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)
-            if any(_rects_stack(rect, q) for q in rects):
-                continue
+        # a far body's top under a near one's base reads as one stacked cloud: side-on a
+        # "snowman", from below a "mushroom" (round 25, both reviewers)
+        rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)
+        if rect is not None and any(_rects_stack(rect, q) for q in rects if q is not None):
+            continue
         if math.hypot(x, y) < r + km(0.3):  # not over the camera
             continue
         z = base + (0.5 - z0) * cz * sz
         placed.append((x, y, z, (sx, sy, sz), r))
         members_left -= 1
-        if view == "side":
-            rects.append(rect)
+        rects.append(rect)
     return [(x, y, z, sc, rng.uniform(0.0, 2 * math.pi)) for x, y, z, sc, _ in placed]
 
 
 def _screen_rect(x, y, r, base, height, pitch):
     """The picture-plane rectangle (tan units: left, right, bottom, top) of a cloud standing
-    on `base` with horizontal radius r and the given height, seen by the side camera (at eye
-    height on the origin, looking along +y, pitched up `pitch` degrees)."""
+    on `base` with horizontal radius r and the given height, seen by the gallery's camera (at
+    eye height on the origin, looking along +y, pitched up `pitch` degrees); None when a corner
+    of its box is not in front of the camera (depth under 1e-3 units)."""
     p = math.radians(pitch)
     us, vs = [], []
     for cx in (x - r, x + r):
         for cy in (y - r, y + r):
             for cz in (base - EYE, base + height - EYE):
                 depth = cy * math.cos(p) + cz * math.sin(p)
+                if depth < 1e-3:
+                    return None
                 us.append(cx / depth)
                 vs.append((cz * math.cos(p) - cy * math.sin(p)) / depth)
     return min(us), max(us), min(vs), max(vs)
