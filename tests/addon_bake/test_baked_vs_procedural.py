@@ -31,7 +31,7 @@ at the peak extinction 48), and the coarse steps overestimate transmittance. Mea
 64 spp against the baked render (0.00387): procedural mean 0.00430 at step rate 0.2 (+11 %,
 blocks 25 %: failed), 0.00383 at 0.1 (-1 %, RMSE 0.86 of the floor, blocks 13 %), 0.00371 at
 0.05 (-4 %, 2.3x the render time of 0.2). A smaller step on the baked side (0.5, 0.25 of the
-voxel) changed nothing. The cumulus preset's material therefore has step rate 0.1.
+voxel) changed nothing. The cumulus preset's material therefore had step rate 0.1 (0.08 since its box grew, below).
 
 The procedural side renders with its LOD Pixel Angle driver removed (0: every octave), as
 the bake is made with --no-lod: this compares the two paths on one field. The LOD's own
@@ -40,10 +40,19 @@ effect is measured against a converged full-detail render in docs/osl.md; at thi
 moved by 15.4 % with it on.
 
 The mean is compared within max(MEAN_TOL, 3 standard errors of a render's mean), the
-standard error estimated from the seed-to-seed RMSE over the pixels (floor / sqrt(values)).
+standard error estimated from the seed-to-seed RMSE over the pixels (floor / sqrt(values)),
+and the 8x8 blocks within max(BLOCK_TOL, the largest block difference between two seeds of
+the procedural render): a difference below what another seed gives is noise, not a finding.
 Blender 5.0's procedural render was far noisier at 16 spp than 4.5's (seed-to-seed RMSE
 0.014 against 0.0045-0.0083, for a mean of 0.002): there the baked and procedural means
-measured 5.1 % apart, inside 3 standard errors (~20 %), and 5 % would test the noise."""
+measured 5.1 % apart, inside 3 standard errors (~20 %), and 5 % would test the noise. Since
+the cumulus's box grew to 5 x 5 x 3 (2026-11-29: the cloud smaller in this frame, which fits
+the box), 5.0's blocks differ by 21 % between the baked and procedural renders and by 34 %
+between two seeds of the procedural one; 4.5: 7.5 % and 12 % (the bound stays 15 %).
+Blender 5 marches no steps, so the material's step rate does not change its render; 4.5's
+procedural step is step rate x a tenth of the box, and the cumulus's step rate went from 0.1
+to 0.08 with the box to keep its step in scene units (4.5 with it: mean 3.8 % apart, RMSE
+0.44 of the floor, blocks 7.5 %)."""
 import numpy as np
 from bake_scene import frame_cloud, render_rgb, small_scene
 
@@ -83,4 +92,7 @@ def test_baked_matches_procedural(bake_addon, tmp_path):
     mean_tol = max(MEAN_TOL, 3.0 * floor / np.sqrt(proc.size) / mean_p)
     print(f"MEASURE mean tolerance {mean_tol:.4f}")
     assert mean_p > 0.001
-    assert rel_mean < mean_tol and rmse < RMSE_TOL * floor and block_rel < BLOCK_TOL
+    block_tol = max(BLOCK_TOL, block_floor)
+    print(f"MEASURE block tolerance {block_tol:.4f}")
+    assert rel_mean < mean_tol and rmse < RMSE_TOL * floor and block_rel < block_tol, \
+        (rel_mean, mean_tol, rmse / floor, block_rel, block_tol)
