@@ -18,7 +18,8 @@ CPU. Shots:
 
 and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°);
 side-on under the low sun, compact clouds have it ahead and to the side (SIDE_LIT_AZIMUTH) and
-thin ice layers have the sun ahead, and the veils (altostratus, cirrostratus) have their sun in the frame (sun_direction).
+thin ice layers have the sun ahead, and the veils (altostratus, cirrostratus) have their sun
+in the frame (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 512 volume bounces, OpenImageDenoise where Blender has it
