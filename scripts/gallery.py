@@ -17,7 +17,7 @@ CPU. Shots:
   behind side-on, the sun low and right behind the cloud's upper edge (silver lining)
 
 and suns: low (25°, 120° from the view: side-lit from behind the camera), high (60°, 150°);
-side-on under the low sun, compact clouds have it ahead and to the side (SIDE_LIT_AZIMUTH) and
+side-on under the low sun, compact clouds have it behind the shoulder (SIDE_LIT_AZIMUTH) and
 thin ice layers have the sun ahead, and the veils (altostratus, cirrostratus) have their sun
 in the frame (sun_direction).
 The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add-on's
@@ -96,12 +96,12 @@ glare_compensation = meter.glare_compensation
 # (512 bounces) the shaded flank came out 0.53 of the sunlit one (the sky alone gave 38 % of
 # it, docs/lighting.md), 17 display levels apart, and both round-21 reviewers read the heap
 # clouds as "lit from no direction". At 140° the lit face is brighter and the flat base shows
-# as a grey band under it (320x180 trials at 90, 120 and 140°). Round 27: 60°, the sun ahead
-# and to the side, out of frame: the cumulus's lit pixels p10 / p50 / p90 153 / 186 / 226
-# (140°: 168 / 208 / 221, 100°: 161 / 200 / 219), its sunlit flank 214 against 142 on the
-# other side, and the sky brightening toward the sun (upper right 171 against 105), as
-# photographs show it; rounds 22-26 at 140° read as "lit from everywhere", "no shaded side"
-SIDE_LIT_AZIMUTH = 60.0
+# as a grey band under it (320x180 trials at 90, 120 and 140°). Tried in round 27 and taken
+# back: 60°, the sun ahead and to the side, out of frame (the cumulus's lit pixels p10 / p50 /
+# p90 153 / 186 / 226 against 168 / 208 / 221 at 140°, the sky brightening toward the sun);
+# both reviewers still saw "evenly white, no shaded side" and the three side views scored
+# 2, 2, 2 and 1, 2, 2 against round 26's 2, 2, 2 and 2, 2, 2
+SIDE_LIT_AZIMUTH = 140.0
 # the cirrus side-on under the low sun: the sun ahead, 45° right of the view and out of frame,
 # where forward scattering shows thin ice (at 120° a Cs veil's phase, g 0.75, is a tenth of that
 # and the reviewer saw no cloud)
