@@ -216,11 +216,10 @@ def shot(name, view, sun, values, baked, out_png, args):
             import cloudgen_native as cn
 
             comp = gs.COMPANIONS[name][0]
-            cv = [gs.companion_values(name, k) for k in range(len(baked["companions"]))]
             cmat = bpy.data.materials.new("Companion")
             render_cloud._addon_file("volume_material").volume_material(
                 cmat, dict(cn.presets()[comp].get("material", {})), grid="density", phase="AUTO", step_rate=1.0)
-            for i, (x, y, z, s, rot) in enumerate(gs.companions(name, values, cv, centre, view, w, h, rng)):
+            for i, (x, y, z, s, rot) in enumerate(gs.companions(name, values, centre, view, w, h, rng)):
                 gs.add_vdb(scene, baked["companions"][i % len(baked["companions"])], cmat, (x, y, z), s, rot,
                            name=f"Companion {i}")
     cam = scene.camera

@@ -210,9 +210,9 @@ def compact_view(name, values, view, width, height):
     return (centre_x, d, centre_z), (0.0, 0.0, EYE), pitch, SIDE_LENS
 
 
-def companions(name, main_values, comp_values, main_centre, view, width, height, rng):
+def companions(name, main_values, main_centre, view, width, height, rng):
     """[(x, y, z, (sx, sy, sz), rot_z)] of the companion clouds, companion i baked from
-    comp_values[i % len(comp_values)] (a list of variants' values, or one dict): in the camera's view wedge
+    companion_values(name, i % len(COMPANION_VARIANTS)): in the camera's view wedge
     (side) or around the main cloud (below), not overlapping each other or the main cloud,
     their lowest points at the main cloud's base height. Each is one of a few seeds, so each
     gets its own proportions too (x and y 0.75-1.5 of its scale, height 0.45-1.1): four
@@ -230,7 +230,7 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     _, _, (s_lo, s_hi) = COMPANIONS[name]
     count = companion_count(name, view)
     mx, my, _ = main_values["box_size"]
-    variants = comp_values if isinstance(comp_values, (list, tuple)) else [comp_values]
+    variants = [companion_values(name, i) for i in range(len(COMPANION_VARIANTS))]
     extents = [vertical_extent(v) for v in variants]
     base = km(BASE_KM.get(name, 1.2))
     tx, ty = tans(SIDE_LENS if view == "side" else BELOW_LENS, width, height)
@@ -238,7 +238,8 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
     d = main_centre[1]
     pitch = compact_view(name, main_values, view, width, height)[2]
     mz0, mz1 = vertical_extent(main_values)
-    rects = [_screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)]
+    main_rect = _screen_rect(main_centre[0], d, main_r, base, (mz1 - mz0) * main_values["box_size"][2], pitch)
+    rects = [] if main_rect is None else [main_rect]
     placed = []
     tries = 0
     members_left = cluster_draws = 0
@@ -270,14 +271,15 @@ def companions(name, main_values, comp_values, main_centre, view, width, height,
         # a far body's top under a near one's base reads as one stacked cloud: side-on a
         # "snowman", from below a "mushroom" (round 25, both reviewers)
         rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)
-        if rect is not None and any(_rects_stack(rect, q) for q in rects if q is not None):
+        if rect is not None and any(_rects_stack(rect, q) for q in rects):
             continue
         if math.hypot(x, y) < r + km(0.3):  # not over the camera
             continue
         z = base + (0.5 - z0) * cz * sz
         placed.append((x, y, z, (sx, sy, sz), r))
         members_left -= 1
-        rects.append(rect)
+        if rect is not None:
+            rects.append(rect)
     return [(x, y, z, sc, rng.uniform(0.0, 2 * math.pi)) for x, y, z, sc, _ in placed]
 
 

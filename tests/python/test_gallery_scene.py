@@ -28,7 +28,7 @@ def test_companions_vary_and_do_not_stack(name, view):
     values = _values(name)
     variants = [gs.companion_values(name, k) for k in range(len(gs.COMPANION_VARIANTS))]
     centre, _, pitch, _ = gs.compact_view(name, values, view, 640, 360)
-    placed = gs.companions(name, values, variants, centre, view, 640, 360, random.Random(f"{name}-{view}"))
+    placed = gs.companions(name, values, centre, view, 640, 360, random.Random(f"{name}-{view}"))
     assert len(placed) == gs.companion_count(name, view), (name, view, len(placed))
     lo, hi = gs.COMPANIONS[name][2]
     aspects = set()
@@ -234,9 +234,8 @@ def test_side_field_reaches_toward_the_horizon(name):
     (with 14 companions out to 8 times the sky under the main cloud was empty, round 13), and
     at least a third of the companions stand beyond 4 times it."""
     values = _values(name)
-    comp = dict(cn.defaults(), **cn.presets()[gs.COMPANIONS[name][0]]["params"])
     centre, _, _, _ = gs.compact_view(name, values, "side", 640, 360)
-    placed = gs.companions(name, values, comp, centre, "side", 640, 360, random.Random(f"{name}-side"))
+    placed = gs.companions(name, values, centre, "side", 640, 360, random.Random(f"{name}-side"))
     ratios = [y / centre[1] for _, y, _, _, _ in placed]
     assert max(ratios) > 0.5 * gs.COMPANION_FAR, (name, max(ratios))
     assert sum(r > 4.0 for r in ratios) >= len(ratios) / 3, (name, sorted(round(r, 1) for r in ratios))
