@@ -15,12 +15,14 @@ using cg::vec3;
 
 using cgtest::preset;
 
-// The cumulus preset in a 4 x 4 x 2.4 box (its box until 2026-11-29): the geometry below is
-// worked out for that box, whatever the preset's box is now.
+// The cumulus as it was until 2026-11-29, in a 4 x 4 x 2.4 box at Cloud Scale 0.9 (the Python
+// CLI tests' CUMULUS_4X4): the geometry below is worked out for that box, whatever the
+// preset's box is now.
 cg::Params cumulus_in_4x4_box() {
   cg::Params p = preset("cumulus");
   const float box[3] = {4.0f, 4.0f, 2.4f};
   p.set(cg::BOX_SIZE, box, 3);
+  p.set(cg::CLOUD_SCALE, 0.9f);
   return p;
 }
 
