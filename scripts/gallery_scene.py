@@ -78,6 +78,13 @@ COMPANION_FAR = 20.0
 CLUSTER_MEMBERS = (2, 6)
 CLUSTER_SPREAD_KM = 0.8
 CLUSTER_TRIES = 40
+# from below, a cluster's centre stands BELOW_NEAR to BELOW_FAR times the main cloud's distance
+# away (log-uniform), across the frame's width at that distance, and only companions that reach
+# into the picture count (none nearer than the main cloud in front of it). Until round 27 the
+# centres were drawn on the ground around the main cloud (2.5 times its distance either side,
+# -0.5 to 4 times ahead of it): the 24 mm frame held 7 of the cumulus's 24 companions and none of
+# the congestus's 20
+BELOW_NEAR, BELOW_FAR = 0.3, 4.0
 # the main cloud's bake resolution as a multiple of --resolution: the cumulonimbus's box is 45 km
 # wide for its anvil, its tower a sixth of that (at 256 voxels a voxel would be 176 m)
 MAIN_RESOLUTION_SCALE = {"cumulonimbus": 2}
@@ -213,7 +220,7 @@ def compact_view(name, values, view, width, height):
 def companions(name, main_values, main_centre, view, width, height, rng):
     """[(x, y, z, (sx, sy, sz), rot_z)] of the companion clouds, companion i baked from
     companion_values(name, i % len(COMPANION_VARIANTS)): in the camera's view wedge
-    (side) or around the main cloud (below), not overlapping each other or the main cloud,
+    (side) or reaching into the picture (below), not overlapping each other or the main cloud,
     their lowest points at the main cloud's base height. Each is one of a few seeds, so each
     gets its own proportions too (x and y 0.75-1.5 of its scale, height 0.45-1.1): four
     seeds at one aspect read as clones ("bread loaves", blind review round 5).
@@ -250,7 +257,9 @@ def companions(name, main_values, main_centre, view, width, height, rng):
                 centre_y = d * math.exp(rng.uniform(math.log(0.5), math.log(COMPANION_FAR)))
                 centre_x = rng.uniform(-1.2, 1.2) * centre_y * tx
             else:
-                centre_x, centre_y = rng.uniform(-2.5, 2.5) * d, rng.uniform(-0.5, 4.0) * d + d
+                centre_y = d * math.exp(rng.uniform(math.log(BELOW_NEAR), math.log(BELOW_FAR)))
+                p = math.radians(pitch)
+                centre_x = rng.uniform(-1.1, 1.1) * tx * (centre_y * math.cos(p) + (base - EYE) * math.sin(p))
             members_left, cluster_draws = rng.randint(*CLUSTER_MEMBERS), 0
         cluster_draws += 1
         cx, cy, cz = variants[len(placed) % len(variants)]["box_size"]
@@ -273,6 +282,9 @@ def companions(name, main_values, main_centre, view, width, height, rng):
         rect = _screen_rect(x, y, r, base, cz * sz * (z1 - z0), pitch)
         if rect is not None and any(_rects_stack(rect, q) for q in rects):
             continue
+        if view == "below" and (rect is None or not rects_overlap(rect, (-tx, tx, -ty, ty))
+                                or (y < d and main_rect is not None and rects_overlap(rect, main_rect))):
+            continue  # from below: only what the picture holds, nothing in front of the main cloud
         if math.hypot(x, y) < r + km(0.3):  # not over the camera
             continue
         z = base + (0.5 - z0) * cz * sz

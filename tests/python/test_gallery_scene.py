@@ -60,6 +60,36 @@ def test_companions_vary_and_do_not_stack(name, view):
         assert banked >= 0.6 * len(rects), (name, view, banked, len(rects))
 
 
+@pytest.mark.parametrize("name", COMPACT)
+def test_below_companions_are_in_the_picture(name):
+    """From below every companion reaches into the 24 mm frame and none nearer than the main
+    cloud overlaps its picture rectangle (exact geometry; until round 27 the frame held 7 of the
+    cumulus's 24 companions and none of the congestus's 20), and the field spreads over the
+    frame: companions left and right of the middle, and more than one distance (far ones under
+    near ones)."""
+    values = _values(name)
+    variants = [gs.companion_values(name, k) for k in range(len(gs.COMPANION_VARIANTS))]
+    centre, _, pitch, lens = gs.compact_view(name, values, "below", 640, 360)
+    tx, ty = gs.tans(lens, 640, 360)
+    base = gs.km(gs.BASE_KM.get(name, 1.2))
+    mz0, mz1 = gs.vertical_extent(values)
+    main_rect = gs._screen_rect(centre[0], centre[1], 0.5 * np.hypot(*values["box_size"][:2]), base,
+                                (mz1 - mz0) * values["box_size"][2], pitch)
+    placed = gs.companions(name, values, centre, "below", 640, 360, random.Random(f"{name}-below"))
+    us, ds = [], []
+    for i, (x, y, _, (sx, sy, sz), _) in enumerate(placed):
+        comp = variants[i % len(variants)]
+        z0, z1 = gs.vertical_extent(comp)
+        r = 0.5 * np.hypot(comp["box_size"][0] * sx, comp["box_size"][1] * sy)
+        rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
+        assert rect is not None and gs.rects_overlap(rect, (-tx, tx, -ty, ty)), (name, i, (x, y), rect)
+        assert not (y < centre[1] and gs.rects_overlap(rect, main_rect)), (name, i, (x, y), rect, main_rect)
+        us.append(0.5 * (rect[0] + rect[1]))
+        ds.append(y / centre[1])
+    assert min(us) < -0.3 * tx and max(us) > 0.3 * tx, (name, sorted(round(u / tx, 2) for u in us))
+    assert max(ds) > 1.5 * min(ds), (name, sorted(round(v, 2) for v in ds))
+
+
 def _silhouette(values):
     """Where a companion bake has density, seen side-on: the union of 9 x-z cuts, 64 x 32."""
     cuts = [cn.slice(values, "y", float(y), 64, 32) > 0 for y in np.linspace(0.1, 0.9, 9)]
