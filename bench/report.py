@@ -262,7 +262,7 @@ def render_bake(native):
 
 
 def grid_dims(r):
-    # The cumulus box is 4 x 4 x 3: N voxels along the longest side.
+    # N voxels along the box's longest side (x and y for the cumulus), the rest along z.
     n = r["resolution"]
     total = r["grid_voxels"]
     return (n, n, total // (n * n))

@@ -25,7 +25,7 @@ REF_SEEDS = (1, 2)
 SCENES = {
     "cumulus": {
         "preset": "cumulus",
-        "description": "Fair-weather cumulus (4 x 4 x 3 box) seen from the side, slightly below its middle.",
+        "description": "Fair-weather cumulus (5 x 5 x 3 box) seen from the side, slightly below its middle.",
     },
     "stratocumulus": {
         "preset": "stratocumulus",
