@@ -23,9 +23,12 @@ SWEEP_SEED = 0          # every swept render (the references use 1 and 2)
 REF_SEEDS = (1, 2)
 
 SCENES = {
+    # the description is copied into the results: it names the box the cached points were
+    # measured in (2026-11-22). The preset's box is 5 x 5 x 3 since 2026-11-29; change it here
+    # when the scene is measured again (docs/accuracy.md, "Dated")
     "cumulus": {
         "preset": "cumulus",
-        "description": "Fair-weather cumulus (5 x 5 x 3 box) seen from the side, slightly below its middle.",
+        "description": "Fair-weather cumulus (4 x 4 x 3 box) seen from the side, slightly below its middle.",
     },
     "stratocumulus": {
         "preset": "stratocumulus",
