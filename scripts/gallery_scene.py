@@ -258,8 +258,8 @@ def companions(name, main_values, main_centre, view, width, height, rng):
                 centre_x = rng.uniform(-1.2, 1.2) * centre_y * tx
             else:
                 centre_y = d * math.exp(rng.uniform(math.log(BELOW_NEAR), math.log(BELOW_FAR)))
-                p = math.radians(pitch)
-                centre_x = rng.uniform(-1.1, 1.1) * tx * (centre_y * math.cos(p) + (base - EYE) * math.sin(p))
+                depth = centre_y * math.cos(math.radians(pitch)) + (base - EYE) * math.sin(math.radians(pitch))
+                centre_x = rng.uniform(-1.1, 1.1) * tx * depth  # across the frame's width at that depth
             members_left, cluster_draws = rng.randint(*CLUSTER_MEMBERS), 0
         cluster_draws += 1
         cx, cy, cz = variants[len(placed) % len(variants)]["box_size"]

@@ -22,6 +22,14 @@ def _values(name):
     return gs.widened(name, dict(cn.defaults(), **cn.presets()[name]["params"]))
 
 
+def _picture_rect(values, x, y, scale, base, pitch):
+    """The picture rectangle of a cloud baked from `values`, scaled by `scale` (x, y, z) and
+    standing at (x, y) on `base` (None: a corner behind the camera)."""
+    bx, by, bz = values["box_size"]
+    z0, z1 = gs.vertical_extent(values)
+    return gs._screen_rect(x, y, 0.5 * np.hypot(bx * scale[0], by * scale[1]), base, bz * scale[2] * (z1 - z0), pitch)
+
+
 @pytest.mark.parametrize("name", COMPACT)
 @pytest.mark.parametrize("view", ["side", "below"])
 def test_companions_vary_and_do_not_stack(name, view):
@@ -43,11 +51,8 @@ def test_companions_vary_and_do_not_stack(name, view):
         bottom = z - (0.5 - z0) * variants[i % len(variants)]["box_size"][2] * sz
         assert abs(bottom - base) < 1e-9, (name, view, i, bottom, base)
     rects = []  # in both views none stands on another in the picture (from below: a "mushroom")
-    for i, (x, y, _, (sx, sy, sz), _) in enumerate(placed):
-        comp = variants[i % len(variants)]
-        z0, z1 = extents[i % len(variants)]
-        r = 0.5 * np.hypot(comp["box_size"][0] * sx, comp["box_size"][1] * sy)
-        rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
+    for i, (x, y, _, scale, _) in enumerate(placed):
+        rect = _picture_rect(variants[i % len(variants)], x, y, scale, base, pitch)
         if rect is None:  # a corner behind the camera: not in the picture's plane
             continue
         assert not any(gs._rects_stack(rect, q) for q in rects), (name, view, (x, y), rect)
@@ -72,16 +77,11 @@ def test_below_companions_are_in_the_picture(name):
     centre, _, pitch, lens = gs.compact_view(name, values, "below", 640, 360)
     tx, ty = gs.tans(lens, 640, 360)
     base = gs.km(gs.BASE_KM.get(name, 1.2))
-    mz0, mz1 = gs.vertical_extent(values)
-    main_rect = gs._screen_rect(centre[0], centre[1], 0.5 * np.hypot(*values["box_size"][:2]), base,
-                                (mz1 - mz0) * values["box_size"][2], pitch)
+    main_rect = _picture_rect(values, centre[0], centre[1], (1.0, 1.0, 1.0), base, pitch)
     placed = gs.companions(name, values, centre, "below", 640, 360, random.Random(f"{name}-below"))
     us, ds = [], []
-    for i, (x, y, _, (sx, sy, sz), _) in enumerate(placed):
-        comp = variants[i % len(variants)]
-        z0, z1 = gs.vertical_extent(comp)
-        r = 0.5 * np.hypot(comp["box_size"][0] * sx, comp["box_size"][1] * sy)
-        rect = gs._screen_rect(x, y, r, base, comp["box_size"][2] * sz * (z1 - z0), pitch)
+    for i, (x, y, _, scale, _) in enumerate(placed):
+        rect = _picture_rect(variants[i % len(variants)], x, y, scale, base, pitch)
         assert rect is not None and gs.rects_overlap(rect, (-tx, tx, -ty, ty)), (name, i, (x, y), rect)
         assert not (y < centre[1] and gs.rects_overlap(rect, main_rect)), (name, i, (x, y), rect, main_rect)
         us.append(0.5 * (rect[0] + rect[1]))

@@ -6,6 +6,7 @@ cross-section was cloud, seen in the main job's render and the gallery as a flat
 Tolerance: exact (the density on a face is 0). The heap presets also stand on a flat, full
 base (FLAT_BASE: measured bounds, stated there)."""
 import cloudgen_native as cn
+import numpy as np
 import pytest
 
 COMPACT = sorted(name for name, p in cn.presets().items() if not p["params"].get("sheet", 0.0))
@@ -46,8 +47,6 @@ def _base_rise_and_density(values, n=256):
     rise, the height (fraction of the cloud's) from its lowest cloud row to the lowest row whose
     mean extent is half the widest extent of the lower half of the cloud; dense, the mean share
     of that row's extent with density over half the median density of the cuts' cloud."""
-    import numpy as np
-
     cuts = np.array([cn.slice(values, "y", float(y), n, n) for y in np.linspace(0.3, 0.7, 9)])
     occ = cuts > 0
     rows = np.where(occ.any(axis=(0, 2)))[0]
