@@ -61,7 +61,7 @@ def _turret_on_body(h):
 COMPANION_VARIANTS = (
     {},
     {"shape_curve": _capped(0.75, 0.1), "turret_influence": 0.15, "distortion": 0.7},
-    {"shape_curve": _capped(0.3, 0.2), "edge_sharpness": 0.55, "noise_influence": 0.55, "density": 1.6,
+    {"shape_curve": _capped(0.3, 0.2), "edge_sharpness": 0.55, "noise_influence": 0.55, "density": 4.0,
      "distortion": 0.9},
     {"shape_curve": _capped(0.2, 0.7), "turret_influence": 0.65, "distortion": 0.9},
     {"shape_curve": _capped(0.35, 0.3, 1.5), "lean": 0.5, "worley_clump": 0.9, "turret_scale": 3.5,
