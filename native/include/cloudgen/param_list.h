@@ -24,9 +24,10 @@
 CG_PARAM(CLOUD_SCALE, "cloud_scale", "Cloud Scale", "Cloud Main", Float, (0.85f), 0.05f, 1.0f, 0.05f, 1.0f, 0, 1,
          "fraction of the box",
          "Size of the cloud inside its box: 1 touches the box faces, smaller values shrink it about the centre.")
-// Density's slider reaches 3, not 1: real cumulus (liquid water 0.5-2 g/m^3, droplets ~10 um)
-// have an extinction of 70-300 per km, 2-4 on this slider at 250 m per unit (docs/model.md).
-CG_PARAM(DENSITY, "density", "Density", "Cloud Main", Float, (0.5f), 0.0f, 10.0f, 0.0f, 3.0f, 0, CG_DENSITY_SCALE,
+// Density's slider reaches 8, not 1: real cumulus (liquid water 0.5-2 g/m^3, droplets ~10 um)
+// have an extinction of 70-300 per km, 1-4 on this slider at 250 m per unit, and the heap presets
+// sit at 4.5-6 (denser than that in their core, for a surface as sharp as a real cloud's: docs/model.md).
+CG_PARAM(DENSITY, "density", "Density", "Cloud Main", Float, (0.5f), 0.0f, 10.0f, 0.0f, 8.0f, 0, CG_DENSITY_SCALE,
          "slider (x20 per scene unit)",
          "Density handed to the volume shader: the physical density is 20 x this value x the shape density "
          "(about 1 in the cloud's core).")
