@@ -45,18 +45,20 @@ LOOKS = ("AgX - High Contrast", "Filmic - High Contrast", "High Contrast")  # by
 WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is left warm (golden hour)
 # Volume bounces for clouds (Add Cloud, Cloud Render Settings, scripts/render_cloud.py): light
 # in a thick cloud scatters many times before it leaves, the more so the more forward its phase
-# (Mie's g is about 0.85). The default cumulus (optical depth about 90) side-lit in the gallery,
+# (Mie's g is about 0.85). The default cumulus (optical depth about 90 until 2026-11-29, 225 since) side-lit in the gallery,
 # in % of its 2,048-bounce radiance, sunlit flank / shaded flank: 61 / 43 at 32 bounces, 87 / 78
 # at 128, 95 / 92 at 256, 99 / 99 at 512, for 3.3x the time of 32 (docs/render_trade.md). 32
-# was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it.
+# was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it. At
+# density 6.0 (2026-11-29) 512 bounces keep 96.4 % of its thick body's light (1,024: Cycles' most).
 CLOUD_BOUNCES = 512
 # The default cumulus's light against volume bounces: the mean of its optically thick body in
 # render_cloud.py's sky scene (64x48, 16 spp), as a share of its light at 1,024 bounces
-# (measured 2026-11-28, the test_bounces setup; that test checks the 32 and 512 rows again).
-# The sidebar quotes it for a scene with fewer than LOW_CLOUD_BOUNCES.
-CUMULUS_LIGHT_BY_BOUNCES = ((4, 0.125), (8, 0.211), (16, 0.351), (32, 0.544), (64, 0.733), (128, 0.875),
-                            (256, 0.958), (512, 0.995), (1024, 1.0))
-LOW_CLOUD_BOUNCES = 128  # below this a thick cloud loses more than a tenth of its light (the table)
+# (measured 2026-11-29 on the cumulus of density 6.0, the test_bounces setup; that test checks
+# the 32 and 512 rows again). At density 2.4 (2026-11-28) it was 54.4 % at 32, 87.5 % at 128,
+# 99.5 % at 512. The sidebar quotes it for a scene with fewer than LOW_CLOUD_BOUNCES.
+CUMULUS_LIGHT_BY_BOUNCES = ((4, 0.118), (8, 0.194), (16, 0.301), (32, 0.479), (64, 0.640), (128, 0.793),
+                            (256, 0.903), (512, 0.964), (1024, 1.0))
+LOW_CLOUD_BOUNCES = 256  # below this a thick cloud loses more than a tenth of its light (the table; 128 at 2.4)
 
 
 def cumulus_light_share(bounces: int) -> float:
