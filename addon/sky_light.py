@@ -45,9 +45,10 @@ LOOKS = ("AgX - High Contrast", "Filmic - High Contrast", "High Contrast")  # by
 WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is left warm (golden hour)
 # Volume bounces for clouds (Add Cloud, Cloud Render Settings, scripts/render_cloud.py): light
 # in a thick cloud scatters many times before it leaves, the more so the more forward its phase
-# (Mie's g is about 0.85). The default cumulus (optical depth about 90 until 2026-11-29, 225 since) side-lit in the gallery,
-# in % of its 2,048-bounce radiance, sunlit flank / shaded flank: 61 / 43 at 32 bounces, 87 / 78
-# at 128, 95 / 92 at 256, 99 / 99 at 512, for 3.3x the time of 32 (docs/render_trade.md). 32
+# (Mie's g is about 0.85). The default cumulus (optical depth about 90 until 2026-11-29, 225
+# since) side-lit in the gallery, in % of its 2,048-bounce radiance, sunlit flank / shaded flank:
+# 61 / 43 at 32 bounces, 87 / 78 at 128, 95 / 92 at 256, 99 / 99 at 512 (at 90), for 3.3x the
+# time of 32 (docs/render_trade.md). 32
 # was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it. At
 # density 6.0 (2026-11-29) 512 bounces keep 96.4 % of its thick body's light (1,024: Cycles' most).
 CLOUD_BOUNCES = 512
