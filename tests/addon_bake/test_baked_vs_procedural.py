@@ -37,6 +37,9 @@ the procedural mean was +5.3 % of the baked (the bound 5.8 %, 3 standard errors)
 14.0 % (15 %); at 0.05 +1.2 % and 10.1 %; at 0.032 -2.3 % and 10.6 % (Blender 4.5, one run each).
 The preset's step rate is 0.05: 0.08 would pass with almost no room, 0.032 costs 1.9 times 0.08's
 render time (a 160x120 render, 16 spp: 57 s at 0.08, 108.5 s at 0.032).
+In Blender 5.0 the denser cloud's 8x8 blocks differed by 15.7 % against two seeds' 14.7 %: the
+block check measured Monte Carlo noise there, so its bound is at least 1.25 times the seed-to-seed
+block difference (in 4.5 that is 15-18 %, and the baked render's blocks are 10 %).
 
 The procedural side renders with its LOD Pixel Angle driver removed (0: every octave), as
 the bake is made with --no-lod: this compares the two paths on one field. The LOD's own
@@ -63,6 +66,7 @@ from bake_scene import frame_cloud, render_rgb, small_scene
 MEAN_TOL = 0.05
 RMSE_TOL = 1.0   # times the seed-to-seed noise floor
 BLOCK_TOL = 0.15
+BLOCK_NOISE_FACTOR = 1.25  # times the seed-to-seed block difference (Blender 5.0's noisier render)
 
 
 def test_baked_matches_procedural(bake_addon, tmp_path):
@@ -96,5 +100,8 @@ def test_baked_matches_procedural(bake_addon, tmp_path):
     mean_tol = max(MEAN_TOL, 3.0 * floor / np.sqrt(proc.size) / mean_p)
     print(f"MEASURE mean tolerance {mean_tol:.4f}")
     assert mean_p > 0.001
-    assert rel_mean < mean_tol and rmse < RMSE_TOL * floor and block_rel < BLOCK_TOL, \
-        (rel_mean, mean_tol, rmse / floor, block_rel, BLOCK_TOL)
+    # blocks: BLOCK_TOL, or 1.25 times two seeds' block difference where the render is that noisy
+    # (a misplaced or mis-scaled volume moves a block by far more than either)
+    block_tol = max(BLOCK_TOL, BLOCK_NOISE_FACTOR * block_floor)
+    assert rel_mean < mean_tol and rmse < RMSE_TOL * floor and block_rel < block_tol, \
+        (rel_mean, mean_tol, rmse / floor, block_rel, block_tol, block_floor)
