@@ -48,9 +48,9 @@ WHITE_BALANCE_FLOOR_K = 4000.0  # a sun lower than this colour temperature is le
 # (Mie's g is about 0.85). The default cumulus (optical depth about 90 until 2026-11-29, 225
 # since) side-lit in the gallery, in % of its 2,048-bounce radiance, sunlit flank / shaded flank:
 # 61 / 43 at 32 bounces, 87 / 78 at 128, 95 / 92 at 256, 99 / 99 at 512 (at 90), for 3.3x the
-# time of 32 (docs/render_trade.md). 32
-# was chosen in 2026-11 for a cumulus a third as dense; tests/blender/test_bounces.py holds it. At
-# density 6.0 (2026-11-29) 512 bounces keep 96.4 % of its thick body's light (1,024: Cycles' most).
+# time of 32 (docs/render_trade.md). 32 was chosen in 2026-11 for a cumulus a third as dense;
+# tests/blender/test_bounces.py holds it. At density 6.0 (2026-11-29) 512 bounces keep 96.4 % of
+# its thick body's light (1,024: Cycles' most).
 CLOUD_BOUNCES = 512
 # The default cumulus's light against volume bounces: the mean of its optically thick body in
 # render_cloud.py's sky scene (64x48, 16 spp), as a share of its light at 1,024 bounces
@@ -59,7 +59,9 @@ CLOUD_BOUNCES = 512
 # 99.5 % at 512. The sidebar quotes it for a scene with fewer than LOW_CLOUD_BOUNCES.
 CUMULUS_LIGHT_BY_BOUNCES = ((4, 0.118), (8, 0.194), (16, 0.301), (32, 0.479), (64, 0.640), (128, 0.793),
                             (256, 0.903), (512, 0.964), (1024, 1.0))
-LOW_CLOUD_BOUNCES = 256  # below this a thick cloud loses more than a tenth of its light (the table; 128 at 2.4)
+# below this a thick cloud loses more than a tenth of its light: the first row of the table that keeps
+# nine tenths (256 since 2026-11-29; 128 was written here before, when the table said 87.5 % there)
+LOW_CLOUD_BOUNCES = min(b for b, share in CUMULUS_LIGHT_BY_BOUNCES if share >= 0.9)
 
 
 def cumulus_light_share(bounces: int) -> float:

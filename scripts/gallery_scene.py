@@ -61,7 +61,7 @@ def _turret_on_body(h):
 COMPANION_VARIANTS = (
     {},
     {"shape_curve": _capped(0.75, 0.1), "turret_influence": 0.15, "distortion": 0.7},
-    {"shape_curve": _capped(0.3, 0.2), "edge_sharpness": 0.55, "noise_influence": 0.55, "density": 4.0,
+    {"shape_curve": _capped(0.3, 0.2), "edge_sharpness": 0.55, "noise_influence": 0.55, "density_scale": 2 / 3,
      "distortion": 0.9},
     {"shape_curve": _capped(0.2, 0.7), "turret_influence": 0.65, "distortion": 0.9},
     {"shape_curve": _capped(0.35, 0.3, 1.5), "lean": 0.5, "worley_clump": 0.9, "turret_scale": 3.5,
@@ -133,7 +133,11 @@ def companion_values(name, i):
     import cloudgen_native as cn
 
     comp = COMPANIONS[name][0]
-    return dict(dict(cn.defaults(), **cn.presets()[comp]["params"]), **COMPANION_VARIANTS[i], seed=101 + i)
+    variant = dict(COMPANION_VARIANTS[i])
+    values = dict(cn.defaults(), **cn.presets()[comp]["params"])
+    if "density_scale" in variant:  # a fraction of the preset's density, which is declared once
+        values["density"] *= variant.pop("density_scale")
+    return dict(values, **variant, seed=101 + i)
 
 
 def far_edge_deg(name) -> float:
@@ -258,7 +262,8 @@ def companions(name, main_values, main_centre, view, width, height, rng):
                 centre_x = rng.uniform(-1.2, 1.2) * centre_y * tx
             else:
                 centre_y = d * math.exp(rng.uniform(math.log(BELOW_NEAR), math.log(BELOW_FAR)))
-                depth = centre_y * math.cos(math.radians(pitch)) + (base - EYE) * math.sin(math.radians(pitch))
+                p = math.radians(pitch)
+                depth = centre_y * math.cos(p) + (base - EYE) * math.sin(p)
                 centre_x = rng.uniform(-1.1, 1.1) * tx * depth  # across the frame's width at that depth
             members_left, cluster_draws = rng.randint(*CLUSTER_MEMBERS), 0
         cluster_draws += 1

@@ -83,8 +83,8 @@ def test_camera_resolution_caps_the_voxel(inputs, out_dir):
 def test_camera_inside_the_box_needs_the_cap(inputs, out_dir):
     # Eye at the box centre: nearest depth = near clip 0.5, voxel 2*0.5*0.009 = 0.009,
     # ~445x445x334 voxels -> refused by a 0.05 GiB memory budget naming --camera; capped it bakes.
-    # Density 0.8, not the preset's (2.4 when measured, 6.0 now): the denser cloud hides more of
-    # itself from an eye inside it, and at 2.4 the bake culls 89 % of the tiles (94,754 of 106,624) and plans 3 MB.
+    # Density 0.8, not the preset's (denser): the denser cloud hides more of itself from an eye
+    # inside it, and at 2.4 the bake culled 89 % of the tiles (94,754 of 106,624) and planned 3 MB.
     cam = inputs({"camera_to_cloud": looking_along_y(0.0), "tan_half_fov": [0.36, 0.27], "resolution": [40, 30],
                   "near": 0.5})
     thin = inputs({"preset": "cumulus", "density": 0.8}, "thin.json")

@@ -64,8 +64,7 @@ def test_explicit_options_win_over_the_tier(out_dir):
     tier = json.loads(TIERS_FILE.read_text())["draft"]["bake"]
     # the cumulus with the thesis's linear edge (Edge Sharpness 0) and density 0.8: its faint rim (values
     # below the draft tolerance) is what --tolerance 0 must keep; the preset's sharp edge leaves almost
-    # none at 16 voxels, and at the preset's density (2.4 when this was written, 6.0 now) no sampled rim
-    # value falls below the tolerance
+    # none at 16 voxels, and at the preset's (denser) density no sampled rim value falls below the tolerance
     soft = out_dir / "soft_cumulus.json"
     soft.write_text(json.dumps(dict(CUMULUS_4X4, edge_sharpness=0.0, density=0.8)))
     out = out_dir / "d16.vdb"

@@ -251,7 +251,10 @@ def test_companion_variants_are_valid_distinct_clouds():
         seeds = set()
         for i, variant in enumerate(gs.COMPANION_VARIANTS):
             values = cn.resolve_params(gs.companion_values(name, i))
-            assert all(np.allclose(values[k], v) for k, v in variant.items()), (name, i, variant)
+            preset_density = cn.presets()[gs.COMPANIONS[name][0]]["params"]["density"]
+            want = {("density" if k == "density_scale" else k): (preset_density * v if k == "density_scale" else v)
+                    for k, v in variant.items()}  # density_scale: that fraction of the preset's density
+            assert all(np.allclose(values[k], v) for k, v in want.items()), (name, i, variant)
             seeds.add(values["seed"])
             cut = cn.slice(values, "y", 0.5, 64, 64)
             assert (cut > 0).mean() > 0.05, f"{name} variant {i} {variant}: {(cut > 0).mean():.3f} of the cut non-empty"
