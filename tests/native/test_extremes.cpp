@@ -227,8 +227,9 @@ FieldStats field_stats(const cg::Params& params, int n) {
         // N once per sample; the density from it through the kernel's own eq. 3.4
         // (equal to cg::density inside the box, also where the shape proves it empty).
         nv[idx] = cg::noise_at(m, p);
-        d[idx] = cg::cg_cloud_main(cg::shape_at(m, p), nv[idx], cg::distortion_at_generated(m, cg::generated(m, p)),
-                                   m.density, m.edge_width);
+        const vec3 gp = cg::generated(m, p);
+        d[idx] = cg::cg_cloud_main(cg::shape_at(m, p), nv[idx], cg::distortion_at_generated(m, gp), m.density,
+                                   cg::edge_width_at_generated(m, gp));
       }
   });
   FieldStats s;

@@ -222,9 +222,11 @@ TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
     const float with = cg::shape_at_generated(anvil, g), without = cg::shape_at_generated(plain, g);
     EXPECT_NEAR(with, without, 1e-6f) << "core at h " << h;
   }
-  // the anvil's calm: the density is eq. 3.4 with F x (1 - 0.75 u) (exact: the kernel's own operations),
-  // so at the ceiling a quarter of F, below Anvil Height all of it
-  int calmed = 0;
+  // the anvil's calm and soft edge: the density is eq. 3.4 with F x (1 - 0.75 u) and the edge width
+  // w + (1 - w) u (Anvil 0.5 is past 1/4, so both fully on; tolerance 1e-6 relative: the kernel rounds
+  // the same terms in another order), so at the ceiling a quarter of F and the thesis's ramp, below
+  // Anvil Height all of F and the crisp edge
+  int calmed = 0, softened = 0;
   for (int i = 0; i < 4000; ++i) {
     const vec3 q = inside(anvil, rng);
     const vec3 g = cg::generated(anvil, q);
@@ -233,11 +235,15 @@ TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
     const float hl = std::min(cg::cg_height(g[2], cs), 0.9f);
     const float u = std::clamp((hl - 0.6f) / (0.9f - 0.6f), 0.0f, 1.0f);
     const float f = anvil.distortion * (1.0f - 0.75f * u);
-    const float want = cg::cg_cloud_main(s, cg::noise_at(anvil, q), f, anvil.density, anvil.edge_width);
+    const float w = anvil.edge_width + (1.0f - anvil.edge_width) * u;
+    const float want = cg::cg_cloud_main(s, cg::noise_at(anvil, q), f, anvil.density, w);
     ASSERT_NEAR(cg::density(anvil, q), want, 1e-6f * std::max(1.0f, want)) << "at " << cgtest::str(q) << " u " << u;
     calmed += u > 0.5f;
+    // ... and the soft edge changes the density there (below the core, where r < 1)
+    softened += want < cg::cg_cloud_main(s, cg::noise_at(anvil, q), f, anvil.density, anvil.edge_width);
   }
   EXPECT_GT(calmed, 50);
+  EXPECT_GT(softened, 20) << "edge width " << anvil.edge_width;
   // Anvil 0 is the identity, whatever Anvil Height (bit for bit)
   p.set(cg::ANVIL, 0.0f);
   p.set(cg::ANVIL_HEIGHT, 0.1f);

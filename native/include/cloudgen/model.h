@@ -77,6 +77,12 @@ inline float distortion_at_generated(const Model& m, vec3 g) {
   return m.distortion * cg_anvil_calm(hl, m.anvil, m.anvil_height, m.top_height);
 }
 
+// The edge width at generated coordinates g: widened in the anvil (the edge width itself at Anvil 0).
+inline float edge_width_at_generated(const Model& m, vec3 g) {
+  const float hl = cg_shape_height(g[2], m.cloud_scale, m.base_height, m.top_height);
+  return cg_anvil_edge_width(m.edge_width, hl, m.anvil, m.anvil_height, m.top_height);
+}
+
 // Density at a local point: 0 outside the box and wherever the shape proves
 // it empty (no noise evaluated there; the proof uses |F|, which bounds the calmed F
 // too), else eq. 3.4 clamped at 0 × Density.
@@ -85,7 +91,7 @@ inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   if (!inside_box(g)) return 0.0f;
   const float s = shape_at_generated(m, g);
   if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
-  return cg_cloud_main(s, noise_at(m, p, lod), distortion_at_generated(m, g), m.density, m.edge_width);
+  return cg_cloud_main(s, noise_at(m, p, lod), distortion_at_generated(m, g), m.density, edge_width_at_generated(m, g));
 }
 
 // An upper bound of the unscaled density (shape + |F|/2) over the axis-aligned

@@ -280,7 +280,8 @@ struct Scratch {
 struct alignas(64) Lanes {
   float x[kChunk], y[kChunk], z[kChunk];  // the point, local frame
   float a[kChunk], b[kChunk], c[kChunk];  // the point in one noise's lattice units
-  float shape[kChunk], distortion[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], turret[kChunk], sum[kChunk];
+  float shape[kChunk], distortion[kChunk], edge[kChunk], perlin[kChunk], worley[kChunk], sine[kChunk], turret[kChunk],
+      sum[kChunk];
   int index[kChunk];  // position of lane i in the caller's arrays
   Scratch scratch;
 };
@@ -366,6 +367,7 @@ int shape_stage(const Model& m, const vec3* points, int count, std::size_t first
     L.z[n] = p[2];
     L.shape[n] = s;
     L.distortion[n] = distortion_at_generated(m, g);
+    L.edge[n] = edge_width_at_generated(m, g);
     L.index[n] = int(first) + q;
     ++n;
   }
@@ -421,7 +423,7 @@ void noise_stage(const Model& m, const Lod& lod, Lanes& L, int n, float* out) {
   for (int i = 0; i < padded; ++i) {
     float noise = cg_cloud_noise_combine(L.perlin[i], L.worley[i], L.sine[i], wi, wv, ni, m.fibres);
     if (ti > 0.0f) noise = cg_turret_mix(noise, L.turret[i], ti);
-    L.sum[i] = cg_cloud_main(L.shape[i], noise, L.distortion[i], m.density, m.edge_width);
+    L.sum[i] = cg_cloud_main(L.shape[i], noise, L.distortion[i], m.density, L.edge[i]);
   }
   for (int i = 0; i < n; ++i) out[L.index[i]] = L.sum[i];
 }
