@@ -160,13 +160,15 @@ CG_FN float cg_anvil_narrowing(float hl, float anvil, float anvil_height, float 
   return 1 + CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT) * ((1 - u) * (1 - u));
 }
 
+/* How far the anvil's calm and soft edge are on: min(4 anvil, 1), full from Anvil 0.25, 0 at Anvil 0. */
+CG_FN float cg_anvil_on(float anvil) { return min(CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT), CG_FLOAT(1.0)); }
+
 /* The anvil's calm: the factor of the distortion F at height h_l, 1 - 0.75 u min(4 anvil, 1).
  * An anvil is ice spread flat under the tropopause: its top is smooth, not billowed like the
  * tower, so the billows fade from the Anvil Height to a quarter at the ceiling. Exactly 1 at
  * Anvil 0 and below the Anvil Height; in (0, 1], so |F| still bounds the distortion term. */
 CG_FN float cg_anvil_calm(float hl, float anvil, float anvil_height, float top_height) {
-  float on = min(CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT), CG_FLOAT(1.0));
-  return 1 - CG_ANVIL_CALM * cg_anvil_u(hl, anvil_height, top_height) * on;
+  return 1 - CG_ANVIL_CALM * cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil);
 }
 
 /* The anvil's soft edge: the edge width w widened toward 1 (the thesis's ramp) with the anvil's
@@ -177,8 +179,7 @@ CG_FN float cg_anvil_calm(float hl, float anvil, float anvil_height, float top_h
  * in the edge width, so every bound made at w still holds. */
 CG_FN float cg_anvil_edge_width(float edge_width, float hl, float anvil, float anvil_height, float top_height) {
   float w = clamp(edge_width, CG_EDGE_WIDTH_MIN, 1);
-  float on = min(CG_ANVIL_SPREAD * clamp(anvil, 0, CG_ANVIL_LIMIT), CG_FLOAT(1.0));
-  return w + (1 - w) * (CG_ANVIL_SOFT * cg_anvil_u(hl, anvil_height, top_height) * on);
+  return w + (1 - w) * (CG_ANVIL_SOFT * cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil));
 }
 
 /* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
