@@ -134,3 +134,22 @@ def test_every_declared_parameter_reaches_a_shader(empty_scene):
     missing = [d["name"] for d in cloudgen_native.parameters()
                if d["name"] not in exposed and d["name"] != "shape_curve"]
     assert not missing, f"declared but not in any shader: {missing}"
+
+
+def test_bench_thesis_style_shader_compiles(empty_scene):
+    """bench/osl_thesis_style.osl (the thesis-style shader of bench/osl_lod_bench.py) includes the
+    shared header, so a change of a shared signature must reach it too: it once lacked the
+    Fibres argument of cg_cloud_noise, which only running the bench showed."""
+    import importlib.util
+    import pathlib
+
+    import bpy
+
+    path = pathlib.Path(__file__).resolve().parents[2] / "bench" / "osl_lod_bench.py"
+    spec = importlib.util.spec_from_file_location("osl_lod_bench", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    mat = bpy.data.materials.new("thesis style")
+    mat.use_nodes = True
+    node = bench.thesis_node(mat.node_tree, {})  # raises with the compiler's messages if it fails
+    assert "Density" in node.outputs, [o.name for o in node.outputs]
