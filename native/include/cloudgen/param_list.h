@@ -59,8 +59,8 @@ CG_PARAM(SHEET, "sheet", "Sheet", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f,
          "cloud.")
 CG_PARAM(ANVIL, "anvil", "Anvil", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1, "",
          "Spreads the top into an anvil: below Anvil Height the shape is narrowed 1 + 4 x this times, so the "
-         "ceiling is up to 5 times as wide as the tower under it; from Anvil Height up the billows calm and the edge softens, "
-         "a thin anvil fading toward its rim; 0 none.")
+         "ceiling is up to 5 times as wide as the tower under it; from Anvil Height up the billows calm and the "
+         "edge softens, a thin anvil fading toward its rim; 0 none.")
 CG_PARAM(ANVIL_HEIGHT, "anvil_height", "Anvil Height", "Cloud Main", Float, (0.75f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
          "fraction of the cloud's height",
          "Where the anvil starts to spread: from here to the ceiling (Top Height, or the top) the tower widens "
