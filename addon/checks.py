@@ -386,6 +386,14 @@ def on_render_pre(scene, *_):
 @bpy.app.handlers.persistent
 def on_load_post(*_):
     _last_printed.clear()
+    try:  # shaders from another cloudgen's model: this add-on's, so that renders match its bakes
+        updated = nodes.update_shaders()
+    except (RuntimeError, LookupError) as exc:
+        print(f"cloudgen: warning: {exc}", file=sys.stderr, flush=True)
+        updated = []
+    if updated:
+        print(f"cloudgen: updated the shaders of {', '.join(updated)} to this cloudgen's cloud model (they were "
+              "made with another version; bakes made with it show as stale)", file=sys.stderr, flush=True)
     try:
         repaired = nodes.repair_groups()
     except RuntimeError as exc:

@@ -17,6 +17,9 @@ floats whose soft range lies in [0, 1] and ends at 1 are FACTOR sliders. The dec
 hard range is enforced where values reach the core (preview, bake) with a
 message naming the parameter.
 """
+import functools
+import hashlib
+
 import bpy
 
 from . import blender_nodes, bridge, osl_temp, volume_material
@@ -30,6 +33,8 @@ GROUP_OF = {"Cloud Main": MAIN_GROUP, "Cloud Noise": NOISE_GROUP, "Animation": N
             "Box": NOISE_GROUP}
 PANEL_OF = {"Cloud Main": "Cloud Main", "Cloud Noise": "Noise", "Animation": "Animation", "Box": "Box"}
 VERSION = 2  # bump when the groups' layout changes; older groups are rebuilt
+# a group's property: the shader sources its Script nodes were compiled from (shader_sources_key)
+SHADERS_KEY = "cloudgen_shaders"
 
 
 def has_interface_panels() -> bool:
@@ -126,6 +131,57 @@ def _link_params(ng, gi, node, params):
             ng.links.new(gi.outputs[p["label"]], node.inputs[osl_name])
 
 
+@functools.lru_cache(maxsize=1)
+def shader_sources_key() -> str:
+    """16 hex digits of this add-on's flattened shader sources: a group whose SHADERS_KEY differs
+    was compiled from another cloudgen's model (its text and bytecode travel in the .blend)."""
+    sources = "\0".join(blender_nodes.flatten.shader_source(s) for s in blender_nodes.flatten.SHADERS)
+    return hashlib.sha256(sources.encode()).hexdigest()[:16]
+
+
+def outdated_groups() -> list:
+    """The add-on's node groups in this file (not linked from a library) whose shaders were made
+    from other sources than this add-on's: an older cloudgen's model, or none recorded."""
+    key = shader_sources_key()
+    return [ng for ng in bpy.data.node_groups
+            if ng.get("cloudgen_version") is not None and ng.library is None and ng.get(SHADERS_KEY) != key]
+
+
+def update_shaders() -> list:
+    """Bring outdated_groups() to this add-on's model: the shared shader texts rewritten with its
+    sources and, where this Blender has OSL, every Script node recompiled and linked as a fresh
+    build would (a Script node renders from its stored bytecode, so the text alone changes
+    nothing). Without OSL only the texts change and the groups stay outdated, to be compiled in
+    a Blender that has it. Returns the names of the groups whose shaders changed; a compile that
+    fails raises RuntimeError naming the group."""
+    groups = outdated_groups()
+    if not groups:
+        return []
+    compile_here = blender_nodes.osl_available()
+    changed = []
+    for ng in groups:
+        touched = False
+        for node in ng.nodes:
+            if node.bl_idname != "ShaderNodeScript" or node.mode != "INTERNAL" or node.script is None:
+                continue
+            if node.name not in blender_nodes.flatten.SHADERS:
+                continue  # not one of ours
+            source = blender_nodes.flatten.shader_source(node.name)
+            if node.script.as_string() != source:
+                node.script.clear()
+                node.script.write(source)
+                touched = True
+            if compile_here:
+                _compile(ng, node)
+                touched = True
+        if compile_here:
+            _wire(ng)
+            ng[SHADERS_KEY] = shader_sources_key()
+        if touched:
+            changed.append(ng.name)
+    return changed
+
+
 def build_noise_group(name=NOISE_GROUP):
     params = group_parameters(NOISE_GROUP)
     ng = bpy.data.node_groups.new(name, "ShaderNodeTree")
@@ -134,6 +190,7 @@ def build_noise_group(name=NOISE_GROUP):
     _script(ng, "cloud_noise")
     _wire(ng)
     ng["cloudgen_version"] = VERSION
+    ng[SHADERS_KEY] = shader_sources_key()
     return ng
 
 
@@ -151,6 +208,7 @@ def build_main_group(shape_curve, name=MAIN_GROUP):
     height.location, curve.location, main.location = (-300, 300), (0, 300), (300, 0)
     _wire(ng)
     ng["cloudgen_version"] = VERSION
+    ng[SHADERS_KEY] = shader_sources_key()
     return ng
 
 
@@ -244,27 +302,32 @@ def uncompiled_groups() -> list:
                 n.bl_idname == "ShaderNodeScript" and not n.outputs for n in ng.nodes)]
 
 
+def _compile(ng, node):
+    """Compile a Script node of group ng from its text (this Blender has OSL); RuntimeError with
+    the compiler's messages if it fails."""
+    from cycles import osl as cycles_osl  # noqa: PLC0415 - only with OSL
+
+    blender_nodes.ensure_oslquery_importable()
+    messages = []
+    with osl_temp.private_tempdir():  # Cycles' compile leaves a temporary .oso behind
+        ok = cycles_osl.update_script_node(node, lambda kind, msg: messages.append(f"{kind}: {msg}"))
+    if not ok:
+        raise RuntimeError(f"{ng.name}: compiling {node.name} failed: {messages}")
+
+
 def repair_groups() -> list:
     """Compile the Script nodes of uncompiled_groups() and link them as a fresh build would
     (only where this Blender has OSL). Returns the names of the groups repaired; a group that
     fails is left as it was (RuntimeError names it)."""
     if not blender_nodes.osl_available():
         return []
-    from cycles import osl as cycles_osl  # noqa: PLC0415 - only with OSL
-
-    blender_nodes.ensure_oslquery_importable()
     repaired = []
     for ng in uncompiled_groups():
         if ng.library is not None:
             continue  # linked from another file: not ours to change
         for node in ng.nodes:
             if node.bl_idname == "ShaderNodeScript" and not node.outputs:
-                messages = []
-                with osl_temp.private_tempdir():
-                    ok = cycles_osl.update_script_node(
-                        node, lambda kind, msg, out=messages: out.append(f"{kind}: {msg}"))
-                if not ok:
-                    raise RuntimeError(f"{ng.name}: compiling {node.name} failed: {messages}")
+                _compile(ng, node)
         _wire(ng)
         repaired.append(ng.name)
     return repaired

@@ -1,0 +1,70 @@
+"""A .blend made with another cloudgen carries that version's shaders: their text and compiled
+bytecode travel in the file, and a Script node renders from its bytecode. Opened with this
+add-on, the groups are brought to its model on load (checks.on_load_post ->
+nodes.update_shaders), so that a procedural render matches what a bake of the same cloud gives
+now. Exact: the text equals this add-on's flattened source and the bytecode equals a fresh
+compile of it (but for the compile's temporary file name, which the .oso records); a current
+file is left as it is."""
+import re
+
+SOFT = "cg_anvil_edge_width(cg_edge_width(edge_sharpness), hl, anvil, anvil_height, top_height)"
+CRISP = "cg_edge_width(edge_sharpness)"  # Cloud Main before 2026-11-29: the anvil kept the crisp edge
+
+
+def _cloud_main_group():
+    import bpy
+
+    return next(ng for ng in bpy.data.node_groups
+                if ng.get("cloudgen_version") is not None and "cloud_main" in ng.nodes)
+
+
+def _code(bytecode):
+    """The .oso without what names the compile's temporary file: its comment lines (the
+    compiler's command line) and the %filename{...} hints."""
+    return [re.sub(r'%filename\{"[^"]*"\}', "", line) for line in bytecode.splitlines() if not line.startswith("#")]
+
+
+def test_an_older_models_shaders_are_updated_on_load(addon, scene, tmp_path):
+    import bpy
+    from cycles import osl as cycles_osl
+
+    nodes = addon.nodes
+    bpy.ops.cloudgen.add_cloud(cloud_type="cumulonimbus")
+    group = _cloud_main_group()
+    node = group.nodes["cloud_main"]
+    current, fresh = node.script.as_string(), _code(node.bytecode)
+    assert SOFT in current, "the test's older model no longer differs from this one"
+    # make the file an older cloudgen's: its Cloud Main compiled from the crisp anvil, no key recorded
+    node.script.clear()
+    node.script.write(current.replace(SOFT, CRISP))
+    assert cycles_osl.update_script_node(node, lambda *_: None)
+    assert _code(node.bytecode) != fresh
+    for ng in bpy.data.node_groups:
+        if nodes.SHADERS_KEY in ng:
+            del ng[nodes.SHADERS_KEY]
+    name = group.name
+    blend = tmp_path / "older.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+
+    bpy.ops.wm.open_mainfile(filepath=str(blend))  # the add-on's load_post handler runs
+    node = bpy.data.node_groups[name].nodes["cloud_main"]
+    assert node.script.as_string() == current, "the shader text was not brought to this model"
+    assert _code(node.bytecode) == fresh, "the Script node still renders an older model's bytecode"
+    assert "Density" in node.outputs and node.outputs["Density"].is_linked, "recompiled but not linked"
+    assert nodes.outdated_groups() == [], [ng.name for ng in nodes.outdated_groups()]
+
+
+def test_a_current_file_is_left_as_it_is(addon, scene, tmp_path):
+    import bpy
+
+    nodes = addon.nodes
+    bpy.ops.cloudgen.add_cloud(cloud_type="cumulus")
+    before = {ng.name: ng.get(nodes.SHADERS_KEY) for ng in bpy.data.node_groups}
+    assert set(before.values()) == {nodes.shader_sources_key()}, before
+    assert nodes.update_shaders() == []
+    blend = tmp_path / "current.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    bytecode = _cloud_main_group().nodes["cloud_main"].bytecode  # not recompiled: the same to the byte
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    assert nodes.update_shaders() == []
+    assert _cloud_main_group().nodes["cloud_main"].bytecode == bytecode
