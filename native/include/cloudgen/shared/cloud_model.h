@@ -50,7 +50,6 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
 #define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
 #define CG_ANVIL_CALM CG_FLOAT(0.75)       /* at the ceiling the anvil's distortion is 1 - 0.75 = 1/4 of F */
-#define CG_ANVIL_SOFT CG_FLOAT(1.0)        /* at the ceiling the anvil's edge width is this far toward 1 */
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
 #define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
@@ -172,14 +171,14 @@ CG_FN float cg_anvil_calm(float hl, float anvil, float anvil_height, float top_h
 }
 
 /* The anvil's soft edge: the edge width w widened toward 1 (the thesis's ramp) with the anvil's
- * height, w + (1 - w) 1.0 u min(4 anvil, 1). An anvil is ice, optically far thinner than the
+ * height, w + (1 - w) u min(4 anvil, 1). An anvil is ice, optically far thinner than the
  * water tower under it, and thins out toward its rim: with the ramp its density follows the shape
  * value, so the anvil fades over its whole spread instead of ending in a hard, rounded lip.
  * Exactly w at Anvil 0 and below the Anvil Height; in [w, 1], and the density is non-increasing
  * in the edge width, so every bound made at w still holds. */
 CG_FN float cg_anvil_edge_width(float edge_width, float hl, float anvil, float anvil_height, float top_height) {
   float w = clamp(edge_width, CG_EDGE_WIDTH_MIN, 1);
-  return w + (1 - w) * (CG_ANVIL_SOFT * cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil));
+  return w + (1 - w) * (cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil));
 }
 
 /* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
