@@ -121,7 +121,7 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
             per_frame = sequence.frame_params(scene, cloud, first, last, bake_params.cloud_params)
         per_file = [entry["params"] for entry in per_frame] if per_frame else [params]
         state = {"cloud": cloud, "relative": given.startswith("//"), "frames": frames,
-                 "keys": bake_params.field_keys(per_file)}
+                 "keys": bake_params.field_keys(per_file), "digests": bake_params.params_digests(per_file)}
         scheduler, runner_python = prefs.dask()
         if per_frame and scheduler:  # Bake Frame Range on the Dask cluster (docs/distributed.md)
             if exe is None:
@@ -203,7 +203,7 @@ class CLOUDGEN_OT_bake_vdb(bpy.types.Operator):
         except (RuntimeError, LookupError, ValueError, IndexError) as exc:
             self.report({"ERROR"}, f"Bake to VDB: baked, but the Volume object failed: {exc}")
             return {"CANCELLED"}
-        volume_object.store_record(cloud, result, files, frames, state["keys"])
+        volume_object.store_record(cloud, result, files, frames, state["keys"], state["digests"])
         text = result.message if getattr(result, "counts_override", None) or not frames \
             else sequence.summary(result, frames)
         self.report({"INFO"}, f"Bake to VDB: {text} → {obj.name}")

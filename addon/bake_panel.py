@@ -1,7 +1,7 @@
 """The Bake panel (sidebar tab Cloud): Bake Frame / Bake Frame Range, Fit to Camera,
 the tier's bake settings, the procedural/baked switch, the baked file, and
 "Stale" when the cloud's parameters no longer give the field it was baked from
-(the bake record's field keys, checks.stale)."""
+(the bake record's field keys, checks.stale), and why (checks.stale_reason)."""
 import bpy
 
 from . import bake, checks, cloud_object, quality, volume_object
@@ -39,8 +39,9 @@ class CLOUDGEN_PT_bake(SidebarPanel, bpy.types.Panel):
         if baked is not None:
             layout.label(text=baked.name, icon="OUTLINER_DATA_VOLUME")
             layout.label(text=bpy.path.basename(baked.data.filepath) or "(no file)", icon="FILE")
-            if checks.stale(cloud, context.scene):
-                layout.label(text="Stale: parameters changed", icon="ERROR")
+            why = checks.stale_reason(cloud, context.scene)
+            if why is not None:
+                layout.label(text=f"Stale: {checks.STALE_REASONS[why][0]}", icon="ERROR")
         if not bpy.data.filepath:
             wrapped_label(layout, "Save the .blend first (output is //cloudgen/)", "INFO", context)
 

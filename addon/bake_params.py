@@ -1,5 +1,7 @@
 """What a bake is made from: the cloud's parameters, its output path, the scene's
 frame range, and the field keys recorded with the bake (volume_object.store_record)."""
+import hashlib
+import json
 import os
 
 import bpy
@@ -61,3 +63,12 @@ def field_keys(params_list) -> list:
     """cloudgen_native.field_key of each parameter set ("" where the core has none): equal
     keys, equal density fields — what a later edit is compared with to call a bake stale."""
     return [bridge.field_key(p) or "" for p in params_list]
+
+
+def params_digests(params_list) -> list:
+    """A digest of each parameter set itself, recorded beside its field key: the field key also
+    changes with the cloud model (a cloudgen whose model computes another field from the same
+    parameters), so a stale bake whose parameters still give this digest was made with another
+    model (checks.stale_reason)."""
+    return [hashlib.sha256(json.dumps(p, sort_keys=True, separators=(",", ":"), default=repr).encode())
+            .hexdigest()[:16] for p in params_list]

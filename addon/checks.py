@@ -115,26 +115,50 @@ def file_field_key(path: str) -> str:
     return _file_keys[sig]
 
 
-def stale(cloud, scene) -> bool:
-    """What the cloud renders baked is not what its parameters give now (at this frame): the
-    field key of the current parameters differs from the baked file's own key (read from the
-    file: after an undo the record may be older than the file), or from the bake record's
-    when the file cannot be read."""
+# why a bake is stale (stale_reason): the Bake panel's short label, the render check's clause
+STALE_REASONS = {
+    "parameters": ("parameters changed", "the parameters changed since"),
+    "model": ("baked with another cloud model",
+              "it was made with another cloudgen, whose cloud model gives another field from the same parameters"),
+    "unknown": ("parameters or cloud model changed", "the parameters or the cloud model changed since"),
+}
+
+
+def stale_reason(cloud, scene):
+    """None when what the cloud renders baked is what its parameters give now (at this frame),
+    else why not (a key of STALE_REASONS). Stale: the field key of the current parameters
+    differs from the baked file's own key (read from the file: after an undo the record may be
+    older than the file), or from the bake record's when the file cannot be read. Why: the
+    record's digest of the parameters (bake_params.params_digests) still matching them means
+    the same parameters now give another field: "model"; a different digest: "parameters";
+    a record without digests (made before they were recorded) or a file that is not the
+    record's: "unknown"."""
     record = volume_object.bake_record(cloud)
     keys = list(record.get("field_keys") or [])
     files = list(record.get("files") or [])
     if not keys or not all(keys):
-        return False
+        return None
     frames = list(record.get("frames") or [])
     index = 0
     if frames:
         index = min(max(scene.frame_current - frames[0], 0), len(keys) - 1)
     try:
-        now = bake_params.field_keys([bake_params.cloud_params(cloud)])[0]
+        params = bake_params.cloud_params(cloud)
+        now = bake_params.field_keys([params])[0]
     except (LookupError, RuntimeError, ValueError, TypeError):
-        return False
+        return None
     on_disk = file_field_key(bpy.path.abspath(files[index])) if index < len(files) else ""
-    return bool(now) and now != (on_disk or keys[index])
+    if not now or now == (on_disk or keys[index]):
+        return None
+    digests = list(record.get("params_digests") or [])
+    if index >= len(digests) or (on_disk and on_disk != keys[index]):
+        return "unknown"
+    return "model" if bake_params.params_digests([params])[0] == digests[index] else "parameters"
+
+
+def stale(cloud, scene) -> bool:
+    """The cloud's bake is stale (stale_reason says why)."""
+    return stale_reason(cloud, scene) is not None
 
 
 def eevee_depths(scene, cloud):
@@ -318,9 +342,8 @@ def problems(scene):
                 empty.append(f"{cloud.name}: the baked VDB {absent[0]} is missing"
                                + (f" (and {len(absent) - 1} more)" if len(absent) > 1 else "")
                                + "; copy the cloudgen/ folder next to the .blend")
-            elif stale(cloud, scene):
-                warnings.append(f"{cloud.name}: the bake is stale (the parameters changed since): "
-                                "Bake to VDB again")
+            elif (why := stale_reason(cloud, scene)) is not None:
+                warnings.append(f"{cloud.name}: the bake is stale ({STALE_REASONS[why][1]}): Bake to VDB again")
             cut = None if absent else eevee_range(scene, cloud)
             if cut is not None:
                 (empty if cut[0] else warnings).append(cut[1])

@@ -95,16 +95,18 @@ def set_source(cloud, source: str):
         baked.hide_viewport = source != "BAKED"
 
 
-def store_record(cloud, result, files, frames, keys):
+def store_record(cloud, result, files, frames, keys, digests=()):
     """cloud[RECORD_KEY] for a successful bake: "files" (as the Volume object reads them),
     "frames" ([first, last], [] for one frame), "field_keys" (bake_params.field_keys of
-    each file's parameters, in file order), the counts "baked", "copied", "kept", and for
+    each file's parameters, in file order), "params_digests" (bake_params.params_digests of
+    the same: did the parameters change, or the model?), the counts "baked", "copied", "kept", and for
     a sequence "baked_frames", "copied_frames" ([frame, source frame] pairs), "kept_frames"."""
     frame_of = dict(zip(result.files, result.frames))
     record = {
         "files": list(files),
         "frames": list(frames) if frames else [],
         "field_keys": list(keys),
+        "params_digests": list(digests),
         "baked": len(result.paths), "copied": len(result.copied), "kept": len(result.kept),
     }
     record.update(getattr(result, "counts_override", None) or {})  # a Dask bake: the runner's counts

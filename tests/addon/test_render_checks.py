@@ -61,6 +61,35 @@ def test_missing_and_stale_bake(addon, scene, cloud, tmp_path, capfd):
     assert err.count("cloudgen: warning: Cumulus: the baked VDB") == 1, err
 
 
+def test_stale_bake_says_why(addon, scene, cloud, monkeypatch):
+    """The Bake panel and the render check say why a bake is stale: its parameters changed, or
+    the same parameters give another field under this cloudgen's model (a file baked before a
+    model change: the field key holds the model's version), or, for a record made before the
+    parameter digests were recorded, either."""
+    import bpy
+
+    checks = addon.checks
+    assert bpy.ops.cloudgen.bake_vdb(resolution=12) == {"FINISHED"}
+    assert checks.stale_reason(cloud, scene) is None
+    socket = next(n.inputs["Density"] for n in addon.cloud_object.cloud_nodes(cloud) if "Density" in n.inputs)
+    baked_density = socket.default_value
+    socket.default_value = baked_density * 0.5 + 0.1
+    assert checks.stale_reason(cloud, scene) == "parameters", (baked_density, socket.default_value)
+    socket.default_value = baked_density
+    assert checks.stale_reason(cloud, scene) is None, "the baked density again: current"
+    # another model: the same parameters, another field key (what a kFieldKeyVersion bump does)
+    field_keys = addon.bake_params.field_keys
+    monkeypatch.setattr(addon.bake_params, "field_keys", lambda ps: [k + "0" for k in field_keys(ps)])
+    assert checks.stale_reason(cloud, scene) == "model"
+    _, warnings = checks.problems(scene)
+    assert any("made with another cloudgen" in w for w in warnings), warnings
+    record = addon.volume_object.bake_record(cloud)
+    del record["params_digests"]   # a bake recorded before the digests were
+    cloud[addon.volume_object.RECORD_KEY] = record
+    assert checks.stale_reason(cloud, scene) == "unknown"
+    assert checks.STALE_REASONS["unknown"][0] == "parameters or cloud model changed"
+
+
 def test_render_settings_never_enables_a_missing_denoiser(addon, scene, monkeypatch):
     import bpy
 
