@@ -105,12 +105,9 @@ def _script(nt, shader):
         with osl_temp.private_tempdir():  # Cycles' compile leaves a temporary .oso behind
             node = blender_nodes.script_node(nt, shader, "INTERNAL")
     else:  # e.g. Debian's 3.4: the text is stored, the node has no sockets, the group outputs 0
-        text = bpy.data.texts.get(f"{shader}.osl") or bpy.data.texts.new(f"{shader}.osl")
-        text.clear()
-        text.write(blender_nodes.flatten.shader_source(shader))
         node = nt.nodes.new("ShaderNodeScript")
         node.mode = "INTERNAL"
-        node.script = text
+        node.script = blender_nodes.shader_text(shader)
         node.label = shader.replace("_", " ").title()
     node.name = shader
     return node
@@ -166,11 +163,7 @@ def update_shaders() -> list:
                 continue
             if node.name not in blender_nodes.flatten.SHADERS:
                 continue  # not one of ours
-            source = blender_nodes.flatten.shader_source(node.name)
-            if node.script.as_string() != source:
-                node.script.clear()
-                node.script.write(source)
-                touched = True
+            touched |= blender_nodes.write_text(node.script, blender_nodes.flatten.shader_source(node.name))
             if compile_here:
                 _compile(ng, node)
                 touched = True

@@ -43,12 +43,30 @@ def osl_available() -> bool:
     return bool(getattr(bpy.app.build_options, "cycles_osl", False))
 
 
+def write_text(text, source: str) -> bool:
+    """Make the Text datablock `text` hold exactly `source`; True when it changed."""
+    if text.as_string() == source:
+        return False
+    text.clear()
+    text.write(source)
+    return True
+
+
+def shader_text(shader: str, source: str | None = None):
+    """The Text datablock `<shader>.osl` (made if missing) holding `source`, by default the
+    flattened shader: what an INTERNAL Script node compiles and the .blend carries."""
+    import bpy
+
+    text = bpy.data.texts.get(f"{shader}.osl") or bpy.data.texts.new(f"{shader}.osl")
+    write_text(text, flatten.shader_source(shader) if source is None else source)
+    return text
+
+
 def script_node(node_tree, shader: str, mode: str = "INTERNAL", directory: str | None = None,
                 defines: dict | None = None):
     """A compiled Script node for one of our shaders. INTERNAL stores the
     flattened source as a Text datablock (it travels with the .blend);
     EXTERNAL writes it to `directory` (the .oso lands next to it)."""
-    import bpy
     from cycles import osl as cycles_osl
 
     ensure_oslquery_importable()
@@ -56,11 +74,8 @@ def script_node(node_tree, shader: str, mode: str = "INTERNAL", directory: str |
     node = node_tree.nodes.new("ShaderNodeScript")
     node.label = shader.replace("_", " ").title()
     if mode == "INTERNAL":
-        text = bpy.data.texts.get(f"{shader}.osl") or bpy.data.texts.new(f"{shader}.osl")
-        text.clear()
-        text.write(source)
         node.mode = "INTERNAL"
-        node.script = text
+        node.script = shader_text(shader, source)
     else:
         if directory is None:
             raise ValueError("EXTERNAL mode needs a directory for the .osl file")
