@@ -33,7 +33,6 @@ sys.path.insert(0, str(ROOT / "scripts"))
 from common import atomic_write, machine_info, splice, write_json  # noqa: E402
 
 PRESET = "cumulus"
-BASE_BOUNCES = 16          # the add-on's default on 2026-11-24 (512 since 2026-11-28: docs/render_trade.md)
 BASE_SAMPLES = 64
 VIEWS = {                  # sun elevation, sun rotation (0: ahead of the camera, 180: behind it)
     "sun_behind": (35.0, 150.0),   # render_cloud.py's default: behind the camera, to one side
@@ -50,10 +49,20 @@ CLOUD_ALPHA = 0.1          # a pixel is cloud where the cloud's coverage (alpha)
 BODY_ALPHA = 0.9           # the cloud's optically thick body; rim: CLOUD_ALPHA <= alpha < BODY_ALPHA
 
 
+def base_bounces():
+    """The add-on's volume bounces for clouds (sky_light.CLOUD_BOUNCES, 512 since 2026-11-28;
+    the study's first run, 2026-11-24, used the 16 of then)."""
+    import render_cloud
+
+    return render_cloud._addon_file("sky_light").CLOUD_BOUNCES
+
+
 def study_plan(quick, ref_samples):
     """The variants of every study: dicts with name, study, view, samples, bounces,
     denoise, adaptive (threshold or None), phase (None = the add-on's AUTO), seed."""
-    def v(name, study, samples=BASE_SAMPLES, bounces=BASE_BOUNCES, denoise=False, adaptive=None,
+    base = base_bounces()
+
+    def v(name, study, samples=BASE_SAMPLES, bounces=base, denoise=False, adaptive=None,
           phase=None, view="sun_behind", seed=0):
         return dict(name=name, study=study, view=view, samples=samples, bounces=bounces,
                     denoise=denoise, adaptive=adaptive, phase=phase, seed=seed)
@@ -273,7 +282,7 @@ def run(args):
     measure(rows, images, masks)
     result = {
         "preset": PRESET, "size": args.size, "vdb_resolution": 128, "quick": bool(args.quick),
-        "base": {"samples": 1 if args.quick else BASE_SAMPLES, "bounces": BASE_BOUNCES, "denoise": False,
+        "base": {"samples": 1 if args.quick else BASE_SAMPLES, "bounces": base_bounces(), "denoise": False,
                  "light": "sky", "phase": "AUTO (Mie 20 um where Cycles has it)"},
         "views": {k: {"sun_elevation": e, "sun_rotation": r} for k, (e, r) in VIEWS.items()},
         "phases": {k: [list(lobe) for lobe in lobes] for k, lobes in PHASES.items()},
@@ -412,7 +421,7 @@ def report_tables(data):
         f"### Volume bounces (sun behind the camera; {data['base']['samples']} spp; error against the most "
         "bounces, same seed)",
         "",
-        "| Bounces | Render s | Body (linear) | Body (display 0–255) | Body vs 64 | RMSE cloud | Rel. RMSE cloud "
+        "| Bounces | Render s | Body (linear) | Body (display 0–255) | Body vs most | RMSE cloud | Rel. RMSE cloud "
         "| MAE cloud | FLIP |",
         "|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
     ]
@@ -421,7 +430,8 @@ def report_tables(data):
                      f"| {_f(100 * r['body_vs_reference'], '+.1f')} % | {_f(r['rmse_cloud'])} "
                      f"| {_f(r['rel_rmse_cloud'])} | {_f(r['mae_cloud'])} | {_f(r['flip'])} |")
     nm = data.get("noise_model") or {}
-    lines += ["", "### Samples with and without OpenImageDenoise (16 bounces; error against the reference)", "",
+    bounces = data["base"]["bounces"]
+    lines += ["", f"### Samples with and without OpenImageDenoise ({bounces} bounces; error against the reference)", "",
               "*Vs truth* removes the reference's own noise (see Method: "
               f"reference RMSE ≈ {_f(nm.get('reference_rmse'))} over the image, "
               f"{_f(nm.get('reference_rmse_cloud'))} over the cloud); *as noisy spp*: the samples a render "
@@ -434,7 +444,8 @@ def report_tables(data):
         lines.append(f"| {r['samples']} | {'on' if r['denoise'] else 'off'} | {_f(r['render_s'])} | {_f(r['rmse'])} "
                      f"| {_f(r['rmse_cloud'])} | {_f(r['rel_rmse_cloud'])} | {_f(r.get('rmse_cloud_vs_truth'))} "
                      f"| {_f(r.get('equivalent_spp'), '.0f')} | {_f(r['mae_cloud'])} | {_f(r['flip'])} |")
-    lines += ["", "### Adaptive sampling (16 bounces; at most the given samples; error against the reference)", "",
+    lines += ["", f"### Adaptive sampling ({bounces} bounces; at most the given samples; error against the reference)",
+              "",
               "| Noise threshold | Max spp | Render s | RMSE | RMSE cloud | Rel. RMSE cloud | Cloud vs truth "
               "| As noisy spp | MAE cloud | FLIP |",
               "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|"]
