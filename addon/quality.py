@@ -66,8 +66,8 @@ def look(flip) -> str:
 
 
 def measured_lines(tier: dict) -> list:
-    """One line per measured scene, time and look: 'cumulus: render 3.2 s, bake 0.40 s,
-    slight grain' (the look from the measured FLIP error, LOOKS)."""
+    """One line per measured scene, where, time and look: 'cumulus (128×96 px, 2026-11-22):
+    render 3.2 s, bake 0.40 s, slight grain' (the look from the measured FLIP error, LOOKS)."""
     out = []
     for scene_name, m in (tier.get("measured") or {}).items():
         if not isinstance(m, dict):
@@ -80,7 +80,10 @@ def measured_lines(tier: dict) -> list:
         if _num(m.get("flip"), "g") is not None:
             parts.append(look(m["flip"]))
         if parts:
-            out.append(f"{scene_name}: " + ", ".join(parts))
+            where = [f"{m['image'].replace('x', '×')} px" if isinstance(m.get("image"), str) else "",
+                     str(m["measured_on"]) if isinstance(m.get("measured_on"), str) else ""]
+            where = ", ".join(w for w in where if w)
+            out.append(f"{scene_name}" + (f" ({where})" if where else "") + ": " + ", ".join(parts))
     return out
 
 

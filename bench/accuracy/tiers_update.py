@@ -33,13 +33,22 @@ def _round(v):
 
 
 def measured_from_results(results: dict) -> dict:
-    """tier name -> {scene: {figure: value}} from the results' "tier" points."""
+    """tier name -> {scene: {figure: value}} from the results' "tier" points, with the image
+    size they were rendered at ("image": "WxH") and the day of the latest ("measured_on"): a
+    tooltip's render time means little without them, and a preset changed since is told by the
+    date (docs/accuracy.md)."""
     out: dict = {}
+    size = (results.get("settings") or {}).get("image_size")
     for scene, data in (results.get("scenes") or {}).items():
         for p in data.get("points", []):
             if p.get("knob") != "tier":
                 continue
             entry = out.setdefault(p["setting"], {}).setdefault(scene, {})
+            if size:
+                entry["image"] = f"{int(size[0])}x{int(size[1])}"
+            day = str(p.get("measured_at") or "")[:10]
+            if day and day > entry.get("measured_on", ""):
+                entry["measured_on"] = day
             if p.get("variant") == "procedural":
                 for k in PROCEDURAL_FIGURES:
                     if p.get(k) is not None:

@@ -5,6 +5,8 @@ operator and property descriptions; Shape Source is a named choice in the sideba
 (XYZ subtype); the driven Box Size / Object Location inputs are hidden on the group
 node; every sidebar label fits the default sidebar width (panel.DEFAULT_CHARS
 characters); tier tooltips speak time and look, not FLIP/RMSE."""
+import re
+
 from test_ui_draw import draw
 
 
@@ -102,3 +104,6 @@ def test_tier_tooltips_speak_time_and_look(addon):
         assert "FLIP" not in tip and "RMSE" not in tip, f"{name}: {tip}"
         if tier.get("measured"):
             assert " s" in tip and any(words in tip for _, words in addon.quality.LOOKS), f"{name}: {tip}"
+            # a render time means little without the image size, and a figure measured on an
+            # earlier preset is told by its date (bench/accuracy/tiers_update.py writes both)
+            assert " px, " in tip and re.search(r"\b20\d\d-\d\d-\d\d\b", tip), f"{name}: {tip}"
