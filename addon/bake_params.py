@@ -69,6 +69,7 @@ def params_digests(params_list) -> list:
     """A digest of each parameter set itself, recorded beside its field key: the field key also
     changes with the cloud model (a cloudgen whose model computes another field from the same
     parameters), so a stale bake whose parameters still give this digest was made with another
-    model (checks.stale_reason)."""
-    return [hashlib.sha256(json.dumps(p, sort_keys=True, separators=(",", ":"), default=repr).encode())
+    model (checks.stale_reason). The parameters are JSON by construction (the CLI reads them as a
+    parameter file), so nothing here guesses at other types."""
+    return [hashlib.sha256(json.dumps(p, sort_keys=True, separators=(",", ":")).encode())
             .hexdigest()[:16] for p in params_list]

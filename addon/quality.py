@@ -80,10 +80,13 @@ def measured_lines(tier: dict) -> list:
         if _num(m.get("flip"), "g") is not None:
             parts.append(look(m["flip"]))
         if parts:
-            where = [f"{m['image'].replace('x', '×')} px" if isinstance(m.get("image"), str) else "",
-                     str(m["measured_on"]) if isinstance(m.get("measured_on"), str) else ""]
-            where = ", ".join(w for w in where if w)
-            out.append(f"{scene_name}" + (f" ({where})" if where else "") + ": " + ", ".join(parts))
+            where = []
+            if isinstance(m.get("image"), str):
+                where.append(m["image"].replace("x", "×") + " px")
+            if isinstance(m.get("measured_on"), str):
+                where.append(m["measured_on"])
+            head = f"{scene_name} ({', '.join(where)})" if where else scene_name
+            out.append(f"{head}: " + ", ".join(parts))
     return out
 
 

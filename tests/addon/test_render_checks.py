@@ -75,6 +75,8 @@ def test_stale_bake_says_why(addon, scene, cloud, monkeypatch):
     baked_density = socket.default_value
     socket.default_value = baked_density * 0.5 + 0.1
     assert checks.stale_reason(cloud, scene) == "parameters", (baked_density, socket.default_value)
+    _, warnings = checks.problems(scene)
+    assert any("stale (the parameters changed since)" in w for w in warnings), warnings
     socket.default_value = baked_density
     assert checks.stale_reason(cloud, scene) is None, "the baked density again: current"
     # another model: the same parameters, another field key (what a kFieldKeyVersion bump does)
@@ -87,7 +89,8 @@ def test_stale_bake_says_why(addon, scene, cloud, monkeypatch):
     del record["params_digests"]   # a bake recorded before the digests were
     cloud[addon.volume_object.RECORD_KEY] = record
     assert checks.stale_reason(cloud, scene) == "unknown"
-    assert checks.STALE_REASONS["unknown"][0] == "parameters or cloud model changed"
+    _, warnings = checks.problems(scene)
+    assert any("stale (the parameters or the cloud model changed since)" in w for w in warnings), warnings
 
 
 def test_render_settings_never_enables_a_missing_denoiser(addon, scene, monkeypatch):
