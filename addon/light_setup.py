@@ -169,9 +169,9 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
                     "the picture — backlit clouds with silver linings; 180: behind the camera)")
     landscape: bpy.props.BoolProperty(
         name="Landscape", default=False,
-        description="Add rolling ground to the horizon around the camera and the haze over it (aerial "
-                    "perspective: far hills and the far part of a layer fade into it). Sized for the cloud "
-                    "types' scale, 1 unit = 250 m")
+        description="Add rolling ground with fields and woods to the horizon around the camera and the "
+                    "haze over it (aerial perspective: far hills, trees and the far part of a layer fade "
+                    "into it). Sized for the cloud types' scale, 1 unit = 250 m")
     visibility_km: bpy.props.FloatProperty(
         name="Visibility", default=landscape.VISIBILITY_KM, min=landscape.VISIBILITY_MIN_KM,
         max=landscape.VISIBILITY_MAX_KM, subtype="NONE",

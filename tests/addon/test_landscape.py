@@ -2,8 +2,10 @@
 Cloud Sky & Sun (addon/sky_light.py: look, white balance), in the bpy wheel (issue 13,
 "Light, out of the box": a horizon and a scale cue; clouds white, the sky blue).
 
-- Cloud Sky & Sun with Landscape makes one ground and one haze box, and again one of each on
-  a second call; the artist's own objects stay;
+- Cloud Sky & Sun with Landscape makes one ground, one haze box and one woods object, and
+  again one of each on a second call; the artist's own objects stay;
+- the woods stand on the ground: every crown's foot at or in it, none taller than a tree,
+  none nearer the camera than the ring they are spread over;
 - the ground is flat where the camera stands (no hill in the lens) and hilly far out
   (tolerance: 1e-4 scene units flat; hills at least a third of HILL_KM high);
 - the haze's top lies below the lowest cloud, its extinction is Koschmieder's 3.912 / V (the
@@ -56,8 +58,10 @@ def test_landscape_made_once_and_clear_at_the_camera(addon, scene):
     for _ in range(2):
         assert bpy.ops.cloudgen.sky_setup(landscape=True) == {"FINISHED"}
     names = [o.name for o in scene.objects]
-    assert names.count(ls.GROUND) == 1 and names.count(ls.HAZE) == 1, names
-    assert not any(n.startswith(ls.GROUND + ".") or n.startswith(ls.HAZE + ".") for n in names), names
+    made = (ls.GROUND, ls.HAZE, ls.WOODS)
+    assert all(names.count(n) == 1 for n in made), names
+    assert not any(n.startswith(m + ".") for n in names for m in made), names
+    assert len([m for m in bpy.data.meshes if m.name.startswith(ls.WOODS)]) == 1
     assert "Artist Lamp" in names and cloud.name in names
     assert len([m for m in bpy.data.meshes if m.name.startswith(ls.GROUND)]) == 1
 
@@ -80,17 +84,62 @@ def test_landscape_made_once_and_clear_at_the_camera(addon, scene):
 def test_ground_albedo_is_dim_and_nearly_grey(addon, scene):
     # A thick cloud's base is lit mostly by the ground: a green ground (woods 0.035/0.05/0.025)
     # rendered a cumulus base olive (RGB 58/63/53, docs/lighting.md). Every colour of the
-    # ground's ramp: linear albedo 0.04-0.10 per channel (to 1e-6), largest/smallest channel <= 1.3.
+    # ground's field palette: linear albedo 0.04-0.10 per channel (to 1e-6), largest/smallest
+    # channel <= 1.3; the hedges and the grass texture scale it by 0.5-1.3 at most.
     import bpy
 
     _camera(scene)
     assert bpy.ops.cloudgen.sky_setup(landscape=True) == {"FINISHED"}
-    ground = scene.objects[addon.landscape.GROUND]
-    ramp = next(n for n in ground.data.materials[0].node_tree.nodes if n.bl_idname == "ShaderNodeValToRGB")
+    ls = addon.landscape
+    ground = scene.objects[ls.GROUND]
+    ramp = ground.data.materials[0].node_tree.nodes[ls.FIELD_PALETTE_NODE]
+    assert len(ramp.color_ramp.elements) == len(ls.FIELD_PALETTE)
     for e in ramp.color_ramp.elements:
         rgb = tuple(e.color)[:3]
         assert all(0.04 - 1e-6 <= c <= 0.10 + 1e-6 for c in rgb), rgb  # float32 storage
         assert max(rgb) / min(rgb) <= 1.3, rgb
+    assert 0.5 <= ls.HEDGE_DARKEN <= 1.0 and 0.5 <= ls.GRASS_RANGE[0] < ls.GRASS_RANGE[1] <= 1.3, \
+        (ls.HEDGE_DARKEN, ls.GRASS_RANGE)
+
+
+def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
+    """Every tree crown of the woods on a hilly ground (hill_km 1.0): its body's foot between
+    0.2 of its height in the evaluated ground under it and 0.1 above (tolerance 1e-6 scene
+    units), no lobe higher than 40 m over that ground, none nearer to the centre than
+    WOODS_NEAR_KM less 100 m (a copse's crowns lie within 2 sigma, 90 m, of its centre);
+    the mesh has one icosphere (42 vertices) per lobe; the same seed makes the same woods."""
+    import bpy
+    from mathutils.bvhtree import BVHTree
+
+    ls = addon.landscape
+    centre = (2.0, -1.0)
+    ground, _, woods = ls.landscape(scene, centre=centre, hill_km=1.0)
+    tree = BVHTree.FromObject(ground, bpy.context.evaluated_depsgraph_get())
+
+    def height(x, y):
+        hit = tree.ray_cast((x, y, ls.units(10.0)), (0.0, 0.0, -1.0))[0]
+        assert hit is not None, (x, y)
+        return hit.z
+
+    crowns = ls.woods_crowns(height, centre)
+    metre = 1.0 / ls.METRES_PER_UNIT
+    bad = []
+    for crown in crowns:
+        x, y, z, _, h = crown[0]
+        floor = height(x, y)
+        if not (floor - 0.2 * h - 1e-6 <= z - h <= floor + 0.1 * h + 1e-6):
+            bad.append(("foot", x, y, (z - h - floor) / h))
+        top = max(lz + lh for _, _, lz, _, lh in crown)
+        near = ls.units(ls.WOODS_NEAR_KM - 0.1)
+        if top - floor > 40 * metre or math.hypot(x - centre[0], y - centre[1]) < near:
+            bad.append(("where", x, y, (top - floor) / metre))
+    assert not bad, (len(bad), bad[:5])
+    assert len(woods.data.vertices) == 42 * sum(len(c) for c in crowns)
+    assert any(len(c) > 1 for c in crowns) and any(len(c) == 1 for c in crowns)
+    first = [tuple(v.co) for v in woods.data.vertices[:1000]]
+    again = ls.make_woods(scene, ground, centre=centre)  # replaces the first
+    assert [tuple(v.co) for v in again.data.vertices[:1000]] == first
+    assert [o.name for o in scene.objects].count(ls.WOODS) == 1
 
 
 def test_hill_height_scales_the_hills(addon, scene):
@@ -100,7 +149,7 @@ def test_hill_height_scales_the_hills(addon, scene):
     ls = addon.landscape
     tops = {}
     for km in (ls.HILL_KM, 1.0):
-        ground, haze = ls.landscape(scene, hill_km=km)
+        ground, haze, _ = ls.landscape(scene, hill_km=km)
         tops[km] = max(z for _, _, z in _evaluated_z(ground))
         lowest = min(z for _, _, z in _evaluated_z(ground))
         assert haze.location.z - haze.scale.z / 2 <= lowest, (km, lowest, haze.location.z, haze.scale.z)

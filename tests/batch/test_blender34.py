@@ -268,7 +268,7 @@ bpy.ops.wm.save_mainfile()
 def test_landscape_in_34_renders_on_a_farm(env, tmp_path):
     """Cloud Sky & Sun with Landscape in Debian 3.4 (no white balance there, Filmic's High
     Contrast look), saved, then `blender -b file -E CYCLES -f 1`: exit 0; the saved file
-    holds the ground and the haze; the sky at the top of the frame is blue (b > r by 10 %),
+    holds the ground, the woods and the haze; the sky at the top of the frame is blue (b > r by 10 %),
     the ground at the bottom is land, not sky (b < r)."""
     from scene_helpers import load_rgb
 
@@ -291,4 +291,5 @@ def test_landscape_in_34_renders_on_a_farm(env, tmp_path):
     listing = subprocess.run([BLENDER, "-b", str(blend), "--python-expr",
                               "import bpy; print('OBJECTS', sorted(o.name for o in bpy.data.objects))"],
                              env=e, capture_output=True, text=True, timeout=300)
-    assert "'Cloud Ground'" in listing.stdout and "'Cloud Haze'" in listing.stdout, listing.stdout[-2000:]
+    assert all(f"'{name}'" in listing.stdout for name in ("Cloud Ground", "Cloud Haze", "Cloud Woods")), \
+        listing.stdout[-2000:]
