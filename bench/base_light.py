@@ -26,7 +26,7 @@ VARIANTS = ("all", "no_sky", "no_sun", "no_companions", "no_haze", "no_ground", 
 HIDDEN = {"no_sun": lambda o: o.type == "LIGHT",
           "no_companions": lambda o: o.name.startswith("Companion"),
           "no_haze": lambda o: o.name.startswith("Cloud Haze"),
-          "no_ground": lambda o: o.name.startswith("Cloud Ground"),
+          "no_ground": lambda o: o.name.startswith(("Cloud Ground", "Cloud Woods")),  # the woods stand on it
           "no_main": lambda o: o.name == "Cloud"}
 
 
