@@ -63,7 +63,8 @@ FIELD_PALETTE_NODE = "Field palette"
 # around the camera. Within LOBED_WITHIN_KM a copse is COPSE_CROWNS tree crowns CROWN_M across,
 # scattered COPSE_SPREAD_M (a Gaussian's sigma, clipped at 2 sigma) around its centre, each of
 # CROWN_LOBES lumpy spheres; beyond, where a crown is a pixel or two, FAR_COPSE_LOBES wide, low
-# lobes (0.8-1.6 spreads in radius, FAR_COPSE_HALF_HEIGHT_M half-height); dark foliage.
+# lobes (0.8-1.6 spreads in radius, FAR_COPSE_HALF_HEIGHT_M half-height); foliage of
+# WOODS_PALETTE's tones, one per crown.
 COPSES = 3000
 COPSE_CROWNS = (6, 30)
 CROWN_LOBES = 3
@@ -73,7 +74,12 @@ CROWN_M = (10.0, 18.0)
 FAR_COPSE_LOBES = (1, 4)
 FAR_COPSE_HALF_HEIGHT_M = (6.0, 12.0)
 WOODS_NEAR_KM, WOODS_FAR_KM = 0.8, 12.0
-WOODS_ALBEDO = (0.035, 0.042, 0.033)
+WOODS_PALETTE = (  # (ramp position, linear RGB), picked per crown by its WOODS_TONE
+    (0.0, (0.022, 0.03, 0.027)),   # conifers
+    (0.5, (0.035, 0.042, 0.03)),   # broadleaves
+    (1.0, (0.055, 0.06, 0.036)),   # lighter broadleaves, birch, poplar
+)
+WOODS_TONE = "cloudgen_tree_tone"
 WOODS_SEED = 7
 WOODS = "Cloud Woods"
 GROUND = "Cloud Ground"
@@ -242,17 +248,30 @@ def make_ground(scene, centre=(0.0, 0.0), hill_km=HILL_KM):
 
 
 def _woods_material():
-    """Dark foliage, diffuse only (no sky mirrored at grazing angles)."""
+    """Foliage, diffuse only (no sky mirrored at grazing angles): each crown's WOODS_TONE
+    attribute (0-1, set by make_woods) picks its colour along WOODS_PALETTE, so that a tree
+    line has dark conifers and lighter broadleaves, not one tone of blobs."""
     mat = bpy.data.materials.get(WOODS) or bpy.data.materials.new(WOODS)
     mat.use_nodes = True
     nt = mat.node_tree
     nt.nodes.clear()
+    tone = nt.nodes.new("ShaderNodeAttribute")
+    tone.attribute_name = WOODS_TONE
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    elements = ramp.color_ramp.elements
+    while len(elements) < len(WOODS_PALETTE):
+        elements.new(1.0)
+    for element, (position, rgb) in zip(elements, WOODS_PALETTE):
+        element.position = position
+        element.color = (*rgb, 1.0)
     bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*WOODS_ALBEDO, 1.0)
     bsdf.inputs["Roughness"].default_value = 1.0
     out = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(tone.outputs["Fac"], ramp.inputs["Fac"])
+    nt.links.new(ramp.outputs["Color"], bsdf.inputs["Color"])
     nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
-    bsdf.location, out.location = (0, 0), (250, 0)
+    for i, n in enumerate((tone, ramp, bsdf, out)):
+        n.location = (-750 + 250 * i, 0)
     return mat
 
 
@@ -329,8 +348,10 @@ def make_woods(scene, ground, centre=(0.0, 0.0), seed=WOODS_SEED):
 
     verts, faces = _lobe_template()
     lumps = random.Random(seed + 1)
-    co, tris = [], []
+    co, tris, tones = [], [], []
     for crown in woods_crowns(ground_height, centre, seed):
+        tone = lumps.random()  # one colour per crown (WOODS_PALETTE)
+        tones.extend([tone] * (len(verts) * len(crown)))
         for x, y, z, radius, height in crown:
             base = len(co)
             for vx, vy, vz in verts:
@@ -339,6 +360,7 @@ def make_woods(scene, ground, centre=(0.0, 0.0), seed=WOODS_SEED):
             tris.extend((base + i, base + j, base + k) for i, j, k in faces)
     mesh = bpy.data.meshes.new(WOODS)
     mesh.from_pydata(co, [], tris)
+    mesh.attributes.new(WOODS_TONE, "FLOAT", "POINT").data.foreach_set("value", tones)
     mesh.materials.append(_woods_material())
     mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
     obj = bpy.data.objects.new(WOODS, mesh)

@@ -107,7 +107,8 @@ def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
     0.2 of its height in the evaluated ground under it and 0.1 above (tolerance 1e-6 scene
     units), no lobe higher than 40 m over that ground, none nearer to the centre than
     WOODS_NEAR_KM less 100 m (a copse's crowns lie within 2 sigma, 90 m, of its centre);
-    the mesh has one icosphere (42 vertices) per lobe; the same seed makes the same woods."""
+    the mesh has one icosphere (42 vertices) per lobe and one colour tone (0-1) per crown;
+    the same seed makes the same woods."""
     import bpy
     from mathutils.bvhtree import BVHTree
 
@@ -135,6 +136,10 @@ def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
             bad.append(("where", x, y, (top - floor) / metre))
     assert not bad, (len(bad), bad[:5])
     assert len(woods.data.vertices) == 42 * sum(len(c) for c in crowns)
+    tones = [d.value for d in woods.data.attributes[ls.WOODS_TONE].data]
+    assert all(0.0 <= t <= 1.0 for t in tones) and max(tones) - min(tones) > 0.5, (min(tones), max(tones))
+    first = 42 * len(crowns[0])
+    assert len(set(tones[:first])) == 1 and tones[first] != tones[0]  # one tone per crown
     assert any(len(c) > 1 for c in crowns) and any(len(c) == 1 for c in crowns)
     first = [tuple(v.co) for v in woods.data.vertices[:1000]]
     again = ls.make_woods(scene, ground, centre=centre)  # replaces the first
