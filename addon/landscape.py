@@ -138,15 +138,8 @@ def _ground_material():
         link(coords.outputs["Object"], voronoi.inputs["Vector"])
     tone = node("ShaderNodeTexWhiteNoise")  # a random value per field, from its centre
     tone.noise_dimensions = "2D"
-    palette = node("ShaderNodeValToRGB")
+    palette = _palette_ramp(nt, FIELD_PALETTE, "CONSTANT")
     palette.name = palette.label = FIELD_PALETTE_NODE
-    palette.color_ramp.interpolation = "CONSTANT"
-    ramp = palette.color_ramp.elements
-    while len(ramp) < len(FIELD_PALETTE):
-        ramp.new(1.0)
-    for element, (position, rgb) in zip(ramp, FIELD_PALETTE):
-        element.position = position
-        element.color = (*rgb, 1.0)
     hedge = _map_range(node, 0.0, HEDGE_KM / FIELD_KM, HEDGE_DARKEN, 1.0)  # dark at the border
     grass = node("ShaderNodeTexNoise")  # tufts, tracks and bare patches, metres across
     grass.inputs["Scale"].default_value = 1.0 / units(GRASS_KM)
@@ -178,6 +171,19 @@ def _ground_material():
         for j, n in enumerate(column):
             n.location = (-1500 + 250 * i, 300 - 250 * j)
     return mat
+
+
+def _palette_ramp(nt, palette, interpolation):
+    """A Color Ramp node with one element per (position, linear RGB) of `palette`."""
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.interpolation = interpolation
+    elements = ramp.color_ramp.elements
+    while len(elements) < len(palette):
+        elements.new(1.0)
+    for element, (position, rgb) in zip(elements, palette):
+        element.position = position
+        element.color = (*rgb, 1.0)
+    return ramp
 
 
 def _map_range(node, from_min, from_max, to_min, to_max):
@@ -257,13 +263,7 @@ def _woods_material():
     nt.nodes.clear()
     tone = nt.nodes.new("ShaderNodeAttribute")
     tone.attribute_name = WOODS_TONE
-    ramp = nt.nodes.new("ShaderNodeValToRGB")
-    elements = ramp.color_ramp.elements
-    while len(elements) < len(WOODS_PALETTE):
-        elements.new(1.0)
-    for element, (position, rgb) in zip(elements, WOODS_PALETTE):
-        element.position = position
-        element.color = (*rgb, 1.0)
+    ramp = _palette_ramp(nt, WOODS_PALETTE, "LINEAR")
     bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
     bsdf.inputs["Roughness"].default_value = 1.0
     out = nt.nodes.new("ShaderNodeOutputMaterial")
