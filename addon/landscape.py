@@ -7,9 +7,9 @@ Why: a cloud over a flat, sharp-edged plane under a clear sky reads as a toy —
 a razor line, a layer's far edge stops in mid-air, nothing gives a scale. Real air holds haze:
 far hills, the far part of a deck and the horizon fade into its colour, which is how
 photographs show distance. Everything here is Blender's own data (a grid mesh with a Displace
-modifier and a Clouds texture, a Principled BSDF, a mesh of tree crowns, a box with a Volume
-Scatter) that an artist
-can edit, and that renders in any Blender with Cycles — no add-on needed.
+modifier and a Clouds texture, diffuse materials, a mesh of tree crowns, a box with a Volume
+Scatter) that an artist can edit, and that renders in any Blender with Cycles — no add-on
+needed.
 
 Scale: the cloud presets are sized at METRES_PER_UNIT metres per scene unit (the cumulus
 is 1 km wide), and so is this landscape:
@@ -36,6 +36,8 @@ TERRAIN_HALF_KM = 50.0
 CLEAR_KM = 0.5
 RISE_KM = 6.0
 HILL_KM = 0.25
+HILL_KM_MAX = 5.0  # the accepted hill_km: the highest tops rise to about half of it
+GROUND_RAY_TOP_KM = 2 * HILL_KM_MAX  # a ray cast down from here meets the ground first
 FEATURE_KM = 2.5
 GRID_CELLS = 400  # per side: 250 m cells at the default size
 HAZE_TOP_KM = 0.8
@@ -207,8 +209,8 @@ def _grid_mesh(name: str, half: float, centre, cells: int):
 
 
 def _check_hill_km(hill_km: float) -> float:
-    if not (0.0 <= hill_km <= 5.0):
-        raise ValueError(f"hill height must be in [0, 5] km, not {hill_km}")
+    if not (0.0 <= hill_km <= HILL_KM_MAX):
+        raise ValueError(f"hill height must be in [0, {HILL_KM_MAX:g}] km, not {hill_km}")
     return float(hill_km)
 
 
@@ -331,16 +333,16 @@ def woods_crowns(ground_height, centre=(0.0, 0.0), seed=WOODS_SEED):
 
 def make_woods(scene, ground, centre=(0.0, 0.0), seed=WOODS_SEED):
     """The object WOODS: the crowns of woods_crowns on the evaluated `ground`, each lobe a
-    lumpy icosphere, so that most stand far off and, through the haze, break the horizon into a line of trees of many
-    sizes (a flat ground ended on "a ruler-straight horizon": blind review round 35). One
-    mesh, deterministic for `seed`; replaced on a second call."""
+    lumpy icosphere. Most stand far off and, through the haze, break the horizon into a line
+    of trees of many sizes (a flat ground ended on "a ruler-straight horizon": blind review
+    round 35). One mesh, deterministic for `seed`; replaced on a second call."""
     import random
 
     from mathutils.bvhtree import BVHTree
 
     _remove_object(WOODS)
     tree = BVHTree.FromObject(ground, bpy.context.evaluated_depsgraph_get())
-    top = units(10.0)  # above the highest hill (hill_km <= 5: tops reach about half of it)
+    top = units(GROUND_RAY_TOP_KM)
 
     def ground_height(x, y):
         hit = tree.ray_cast((x, y, top), (0.0, 0.0, -1.0))[0]

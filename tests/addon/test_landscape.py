@@ -85,7 +85,8 @@ def test_ground_albedo_is_dim_and_nearly_grey(addon, scene):
     # A thick cloud's base is lit mostly by the ground: a green ground (woods 0.035/0.05/0.025)
     # rendered a cumulus base olive (RGB 58/63/53, docs/lighting.md). Every colour of the
     # ground's field palette: linear albedo 0.04-0.10 per channel (to 1e-6), largest/smallest
-    # channel <= 1.3; the hedges and the grass texture scale it by 0.5-1.3 at most.
+    # channel <= 1.3; the material's two Map Range nodes (hedges, grass texture) scale it by
+    # 0.5-1.3 at most.
     import bpy
 
     _camera(scene)
@@ -98,8 +99,9 @@ def test_ground_albedo_is_dim_and_nearly_grey(addon, scene):
         rgb = tuple(e.color)[:3]
         assert all(0.04 - 1e-6 <= c <= 0.10 + 1e-6 for c in rgb), rgb  # float32 storage
         assert max(rgb) / min(rgb) <= 1.3, rgb
-    assert 0.5 <= ls.HEDGE_DARKEN <= 1.0 and 0.5 <= ls.GRASS_RANGE[0] < ls.GRASS_RANGE[1] <= 1.3, \
-        (ls.HEDGE_DARKEN, ls.GRASS_RANGE)
+    gains = [(n.inputs["To Min"].default_value, n.inputs["To Max"].default_value)
+             for n in ground.data.materials[0].node_tree.nodes if n.bl_idname == "ShaderNodeMapRange"]
+    assert len(gains) == 2 and all(0.5 <= lo < hi <= 1.3 for lo, hi in gains), gains
 
 
 def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
@@ -118,7 +120,7 @@ def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
     tree = BVHTree.FromObject(ground, bpy.context.evaluated_depsgraph_get())
 
     def height(x, y):
-        hit = tree.ray_cast((x, y, ls.units(10.0)), (0.0, 0.0, -1.0))[0]
+        hit = tree.ray_cast((x, y, ls.units(ls.GROUND_RAY_TOP_KM)), (0.0, 0.0, -1.0))[0]
         assert hit is not None, (x, y)
         return hit.z
 
@@ -138,12 +140,12 @@ def test_woods_stand_on_the_ground_away_from_the_camera(addon, scene):
     assert len(woods.data.vertices) == 42 * sum(len(c) for c in crowns)
     tones = [d.value for d in woods.data.attributes[ls.WOODS_TONE].data]
     assert all(0.0 <= t <= 1.0 for t in tones) and max(tones) - min(tones) > 0.5, (min(tones), max(tones))
-    first = 42 * len(crowns[0])
-    assert len(set(tones[:first])) == 1 and tones[first] != tones[0]  # one tone per crown
+    first_crown = 42 * len(crowns[0])
+    assert len(set(tones[:first_crown])) == 1 and tones[first_crown] != tones[0]  # one tone per crown
     assert any(len(c) > 1 for c in crowns) and any(len(c) == 1 for c in crowns)
-    first = [tuple(v.co) for v in woods.data.vertices[:1000]]
+    made = [tuple(v.co) for v in woods.data.vertices[:1000]]
     again = ls.make_woods(scene, ground, centre=centre)  # replaces the first
-    assert [tuple(v.co) for v in again.data.vertices[:1000]] == first
+    assert [tuple(v.co) for v in again.data.vertices[:1000]] == made
     assert [o.name for o in scene.objects].count(ls.WOODS) == 1
 
 
