@@ -144,6 +144,35 @@ def outdated_groups() -> list:
             if ng.get("cloudgen_version") is not None and ng.library is None and ng.get(SHADERS_KEY) != key]
 
 
+def _input_names(ng) -> set:
+    if has_interface_panels():
+        return {i.name for i in ng.interface.items_tree if i.item_type == "SOCKET" and i.in_out == "INPUT"}
+    return set(ng.inputs.keys())
+
+
+def add_missing_sockets(ng) -> list:
+    """Give a group made by an older cloudgen the sockets of parameters declared since (in 4.x in
+    their panel), at their declared defaults, which leave the older model's field as it was (a
+    new shape term is off at its default). Returns the labels added."""
+    kind = MAIN_GROUP if "cloud_main" in ng.nodes else NOISE_GROUP if "cloud_noise" in ng.nodes else None
+    if kind is None:
+        return []
+    have = _input_names(ng)
+    added = []
+    for p in group_parameters(kind):
+        if p["label"] in have:
+            continue
+        parent = None
+        if has_interface_panels():
+            title = PANEL_OF[p["group"]]
+            parent = next((i for i in ng.interface.items_tree if i.item_type == "PANEL" and i.name == title), None)
+            if parent is None:
+                parent = ng.interface.new_panel(title)
+        _declared_socket(ng, p, parent)
+        added.append(p["label"])
+    return added
+
+
 def update_shaders() -> list:
     """Bring outdated_groups() to this add-on's model: the shared shader texts rewritten with its
     sources and, where this Blender has OSL, every Script node recompiled and linked as a fresh
@@ -157,7 +186,7 @@ def update_shaders() -> list:
     compile_here = blender_nodes.osl_available()
     changed = []
     for ng in groups:
-        touched = False
+        touched = bool(add_missing_sockets(ng))
         for node in ng.nodes:
             if node.bl_idname != "ShaderNodeScript" or node.mode != "INTERNAL" or node.script is None:
                 continue

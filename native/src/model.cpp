@@ -74,6 +74,7 @@ Model prepare(const Params& p) {
   m.sheet = p.get(SHEET);
   m.anvil = p.get(ANVIL);
   m.anvil_height = p.get(ANVIL_HEIGHT);
+  m.anvil_fibres = p.get(ANVIL_FIBRES);
   m.stretch = p.get(STRETCH);
   m.shear = p.get(SHEAR);
   m.warp = p.get(WARP);

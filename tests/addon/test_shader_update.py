@@ -68,3 +68,45 @@ def test_a_current_file_is_left_as_it_is(addon, scene, tmp_path):
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     assert nodes.update_shaders() == []
     assert _cloud_main_group().nodes["cloud_main"].bytecode == bytecode
+
+
+def test_a_group_from_before_a_new_parameter_gains_its_socket_on_load(addon, scene, tmp_path):
+    """A Cloud Main made before Anvil Fibres existed (no socket, a shader without the input): on
+    load the group gains the socket at its default 0 (the older file's smooth anvil), in the
+    Cloud Main panel where Blender has panels, linked to the recompiled shader's input."""
+    import bpy
+    from cycles import osl as cycles_osl
+
+    nodes = addon.nodes
+    bpy.ops.cloudgen.add_cloud(cloud_type="cumulonimbus")
+    group = _cloud_main_group()
+    node = group.nodes["cloud_main"]
+    current = node.script.as_string()
+    older = re.sub(r"\n    float anvil_fibres = 0\.0\n        \[\[[^\n]*\]\],", "", current)
+    assert older != current, "the test no longer finds Cloud Main's Anvil Fibres input"
+    older = older.replace("anvil_fibres", "0.0")
+    node.script.clear()
+    node.script.write(older)
+    assert cycles_osl.update_script_node(node, lambda *_: None)
+    assert "anvil_fibres" not in node.inputs
+    item = next(i for i in group.interface.items_tree if i.item_type == "SOCKET" and i.name == "Anvil Fibres")
+    group.interface.remove(item)
+    for ng in bpy.data.node_groups:
+        if nodes.SHADERS_KEY in ng:
+            del ng[nodes.SHADERS_KEY]
+    name = group.name
+    blend = tmp_path / "before_anvil_fibres.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+
+    bpy.ops.wm.open_mainfile(filepath=str(blend))  # the add-on's load_post handler runs
+    group = bpy.data.node_groups[name]
+    node = group.nodes["cloud_main"]
+    assert node.script.as_string() == current
+    sockets = [i for i in group.interface.items_tree if i.item_type == "SOCKET" and i.name == "Anvil Fibres"]
+    assert len(sockets) == 1, [i.name for i in group.interface.items_tree]
+    assert sockets[0].parent.name == "Cloud Main", sockets[0].parent.name
+    assert node.inputs["anvil_fibres"].is_linked, "the new input is not wired to the group's socket"
+    users = [n for m in bpy.data.materials if m.node_tree for n in m.node_tree.nodes
+             if n.bl_idname == "ShaderNodeGroup" and n.node_tree == group]
+    assert users and all(n.inputs["Anvil Fibres"].default_value == 0.0 for n in users)
+    assert nodes.outdated_groups() == [], [ng.name for ng in nodes.outdated_groups()]

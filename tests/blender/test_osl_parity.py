@@ -58,6 +58,8 @@ def parameter_sets():
     sets["shape_terms"] = {"preset": "cumulus", "edge_sharpness": 0.7, "base_height": 0.1, "top_height": 0.85,
                            "lean": 0.4, "turret_influence": 0.5, "turret_scale": 2.5, "stretch": 1.5, "shear": 0.4,
                            "warp": 0.6, "warp_scale": 4.0, "anvil": 0.6, "anvil_height": 0.55}
+    # Anvil Fibres: a second gradient noise in Cloud Main, read at the direction from the anvil's axis
+    sets["anvil_fibres"] = {"preset": "cumulonimbus", "anvil_fibres": 1.0}
     sets["sheet_curve"] = {"sheet": 1.0, "shape_mode": 1, "box_size": [30.0, 24.0, 1.5], "edge_sharpness": 0.5,
                            "base_height": 0.2, "lean": -0.5, "stretch": 6.0, "shear": -1.2, "warp": 1.0,
                            "warp_scale": 8.0}

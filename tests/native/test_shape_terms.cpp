@@ -254,6 +254,62 @@ TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
   }
 }
 
+TEST(ShapeTerms, AnvilFibresThinTheAnvilBetweenStreaks) {
+  // Anvil Fibres f lowers the raw value r by cut = 0.3 f u min(4 a, 1) core gap (docs/model.md 4.1):
+  // never more than 0.3 f u, 0 below the Anvil Height and at f = 0 (bit for bit), and in the anvil
+  // both fibres (gap near 0) and gaps (gap 1). The density never rises (tolerance 0: max(r - cut, 0)
+  // is monotone), and the kernel's density is eq. 3.4 at the lowered shape (tolerance 1e-6 relative).
+  cg::Params p = cg::find_preset("cumulonimbus")->params;
+  p.set(cg::ANVIL_FIBRES, 0.0f);
+  const cg::Model smooth = cg::prepare(p);
+  p.set(cg::ANVIL_FIBRES, 1.0f);
+  const cg::Model fibred = cg::prepare(p);
+  const float cs = fibred.cloud_scale, a = fibred.anvil_height, top = fibred.top_height;
+  const float c = std::max(std::min(top, 1.0f), a + 0.01f);
+  Rng rng(31);
+  int below = 0, fibre = 0, gap = 0, lowered = 0;
+  for (int i = 0; i < 40000; ++i) {
+    const vec3 q = inside(fibred, rng);
+    const vec3 g = cg::generated(fibred, q);
+    const float hl = cg::cg_shape_height(g[2], cs, fibred.base_height, top);
+    const float u = std::clamp((hl - a) / (c - a), 0.0f, 1.0f);
+    const float cut = cg::cg_anvil_fibre_cut(g, cs, fibred.base_height, top, fibred.lean, fibred.anvil, a, 1.0f);
+    ASSERT_GE(cut, 0.0f) << "g " << cgtest::str(g);
+    ASSERT_LE(cut, 0.3f * u * (1 + 1e-6f)) << "g " << cgtest::str(g) << " u " << u;
+    if (u == 0.0f) {
+      ASSERT_EQ(cut, 0.0f) << "below the anvil, g " << cgtest::str(g);
+      ++below;
+    }
+    if (u > 0.5f && cut < 0.02f * u) ++fibre;
+    if (u > 0.5f && cut > 0.29f * u) ++gap;
+    const float d_smooth = cg::density(smooth, q), d_fibred = cg::density(fibred, q);
+    ASSERT_LE(d_fibred, d_smooth) << "at " << cgtest::str(q) << " cut " << cut;
+    lowered += d_fibred < d_smooth;
+    const float s = cg::shape_at_generated(fibred, g);
+    if (cg::cg_shape_proves_empty(s, fibred.distortion)) continue;
+    const float want = cg::cg_cloud_main(s - cut, cg::noise_at(fibred, q), cg::distortion_at_generated(fibred, g),
+                                         fibred.density, cg::edge_width_at_generated(fibred, g));
+    ASSERT_NEAR(d_fibred, want, 1e-6f * std::max(1.0f, want)) << "at " << cgtest::str(q) << " cut " << cut;
+  }
+  std::cout << "below " << below << " fibres " << fibre << " gaps " << gap << " lowered " << lowered << "\n";
+  EXPECT_GT(below, 10000);
+  EXPECT_GT(fibre, 100);
+  EXPECT_GT(gap, 100);
+  EXPECT_GT(lowered, 200);
+  // Anvil Fibres 0 is the identity (bit for bit) and so is Anvil 0 whatever Anvil Fibres
+  p.set(cg::ANVIL_FIBRES, 0.0f);
+  const cg::Params smooth_params = p;
+  p.set(cg::ANVIL, 0.0f);
+  const cg::Model no_anvil = cg::prepare(p);
+  p.set(cg::ANVIL_FIBRES, 1.0f);
+  const cg::Model no_anvil_fibred = cg::prepare(p);
+  for (int i = 0; i < 4000; ++i) {
+    const vec3 q = inside(fibred, rng);
+    ASSERT_TRUE(same_bits(cg::density(cg::prepare(smooth_params), q), cg::density(smooth, q)));
+    ASSERT_TRUE(same_bits(cg::density(no_anvil_fibred, q), cg::density(no_anvil, q))) << "at " << cgtest::str(q);
+  }
+}
+
 TEST(ShapeTerms, StretchAndShearWarpTheNoisePoint) {
   // Exact (bitwise): N with Stretch s and Shear k at p is N without them at (p_x / (1 + s) + k p_z, p_y, p_z).
   Rng rng(17);

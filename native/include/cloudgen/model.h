@@ -83,15 +83,24 @@ inline float edge_width_at_generated(const Model& m, vec3 g) {
   return cg_anvil_edge_width(m.edge_width, hl, m.anvil, m.anvil_height, m.top_height);
 }
 
+// The shape term less the anvil's fibre gaps (the shape itself at Anvil Fibres 0): what eq. 3.4
+// adds the distortion to, once the shape alone has not proved the point empty.
+inline float fibred_shape_at_generated(const Model& m, vec3 g, float shape) {
+  return shape - cg_anvil_fibre_cut(g, m.cloud_scale, m.base_height, m.top_height, m.lean, m.anvil, m.anvil_height,
+                                    m.anvil_fibres);
+}
+
 // Density at a local point: 0 outside the box and wherever the shape proves
 // it empty (no noise evaluated there; the proof uses |F|, which bounds the calmed F
-// too), else eq. 3.4 clamped at 0 × Density.
+// too, and the shape before the anvil's fibre gaps, which only lower it), else
+// eq. 3.4 clamped at 0 × Density.
 inline float density(const Model& m, vec3 p, const Lod& lod = kNoLod) {
   const vec3 g = generated(m, p);
   if (!inside_box(g)) return 0.0f;
   const float s = shape_at_generated(m, g);
   if (cg_shape_proves_empty(s, m.distortion)) return 0.0f;
-  return cg_cloud_main(s, noise_at(m, p, lod), distortion_at_generated(m, g), m.density, edge_width_at_generated(m, g));
+  return cg_cloud_main(fibred_shape_at_generated(m, g, s), noise_at(m, p, lod), distortion_at_generated(m, g),
+                       m.density, edge_width_at_generated(m, g));
 }
 
 // An upper bound of the unscaled density (shape + |F|/2) over the axis-aligned

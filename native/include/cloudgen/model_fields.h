@@ -53,4 +53,5 @@ CG_MODEL_FIELD(float, turret_influence, Always)
 CG_MODEL_FIELD(float, turret_frequency, Always)                  // turret cells per scene unit (x, y)
 CG_MODEL_FIELD(vec3, turret_offset, Always)                      // wrapped, in turret lattice units
 CG_MODEL_FIELD(float, fibres, Always)                            // Fibres weight (cg_fibre_noise)
+CG_MODEL_FIELD(float, anvil_fibres, Always)                      // Anvil Fibres weight (cg_anvil_fibre_cut)
 // clang-format on

@@ -365,7 +365,7 @@ int shape_stage(const Model& m, const vec3* points, int count, std::size_t first
     L.x[n] = p[0];
     L.y[n] = p[1];
     L.z[n] = p[2];
-    L.shape[n] = s;
+    L.shape[n] = fibred_shape_at_generated(m, g, s);
     L.distortion[n] = distortion_at_generated(m, g);
     L.edge[n] = edge_width_at_generated(m, g);
     L.index[n] = int(first) + q;

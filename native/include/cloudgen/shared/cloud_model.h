@@ -50,6 +50,16 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
 #define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
 #define CG_ANVIL_CALM CG_FLOAT(0.75)       /* at the ceiling the anvil's distortion is 1 - 0.75 = 1/4 of F */
+/* Anvil Fibres (docs/model.md, "Anvil fibres"): streaks of ice in the anvil, a gradient noise read at the
+ * horizontal direction from the anvil's axis (angular), the distance from it (radial) and the height. */
+#define CG_ANVIL_FIBRE_DEPTH CG_FLOAT(0.3)      /* at Anvil Fibres 1 the gaps between fibres lower r by 0.3 */
+#define CG_ANVIL_FIBRE_ANGULAR CG_FLOAT(5.0)    /* noise cells across one radian of direction (~30 around) */
+#define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(6.0)     /* noise cells per unit of the anvil's (narrowed) radius */
+#define CG_ANVIL_FIBRE_VERTICAL CG_FLOAT(24.0)  /* noise cells per unit of h: thin, nearly flat sheets */
+#define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(3.0)  /* a fibre is where |n| < 1/3; clear from there */
+#define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.15)   /* no fibres within this radius of the axis ... */
+#define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.45)  /* ... all of them from this radius out */
+#define CG_SEED_SALT_ANVIL_FIBRE 1274126177
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
 #define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
@@ -179,6 +189,40 @@ CG_FN float cg_anvil_calm(float hl, float anvil, float anvil_height, float top_h
 CG_FN float cg_anvil_edge_width(float edge_width, float hl, float anvil, float anvil_height, float top_height) {
   float w = clamp(edge_width, CG_EDGE_WIDTH_MIN, 1);
   return w + (1 - w) * (cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil));
+}
+
+/* Anvil Fibres: how much the raw value r of eq. 3.4 is lowered at generated coordinates g, in
+ * [0, CG_ANVIL_FIBRE_DEPTH]: 0 on thin, nearly flat sheets of ice that run out radially from the
+ * anvil's (leaned) axis and in the gaps between them up to depth x anvil_fibres x u x min(4 anvil, 1)
+ * (u: how far up the anvil, cg_anvil_u), so the anvil's rim breaks into streaks and its body is
+ * striated; nothing below the Anvil Height, at Anvil 0 or Anvil Fibres 0 (no noise evaluated), and
+ * nothing near the axis (faded in from CG_ANVIL_FIBRE_CORE_IN to _OUT). The noise is one gradient octave plus a
+ * half-weight octave at twice the frequency, read at (direction x angular, radius x radial,
+ * h_l x vertical) in the anvil's own shape coordinates (fixed seed: the fibres belong to the shape
+ * and travel with it). Lowering r never raises the density, so every emptiness proof still holds. */
+CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, float top_height, float lean,
+                               float anvil, float anvil_height, float anvil_fibres) {
+  float af = clamp(anvil_fibres, 0, 1);
+  if (af <= 0) return 0;
+  float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
+  float weight = af * cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil);
+  if (weight <= 0) return 0;
+  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
+  float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
+  float tx = cg_lean_x((2 * g[0] - 1) * inv, cg_height(g[2], cloud_scale), lean) * k;
+  float ty = (2 * g[1] - 1) * inv * k;
+  float radius = sqrt(tx * tx + ty * ty);
+  float core = smoothstep(CG_ANVIL_FIBRE_CORE_IN, CG_ANVIL_FIBRE_CORE_OUT, radius);
+  if (core <= 0) return 0;
+  float a = CG_ANVIL_FIBRE_ANGULAR / radius; /* radius > 0 here */
+  float x = tx * a;
+  float y = ty * a;
+  float z = radius * CG_ANVIL_FIBRE_RADIAL;
+  float w = hl * CG_ANVIL_FIBRE_VERTICAL;
+  float n = (cg_perlin4(x, y, z, w, CG_SEED_SALT_ANVIL_FIBRE) +
+             CG_FLOAT(0.5) * cg_perlin4(2 * x, 2 * y, 2 * z, 2 * w, CG_SEED_SALT_ANVIL_FIBRE ^ 1)) / CG_FLOAT(1.5);
+  float gap = min(fabs(n) * CG_ANVIL_FIBRE_SHARPNESS, CG_FLOAT(1.0));
+  return CG_ANVIL_FIBRE_DEPTH * weight * core * gap;
 }
 
 /* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
