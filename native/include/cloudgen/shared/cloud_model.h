@@ -57,8 +57,9 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(6.0)     /* noise cells per unit of the anvil's (narrowed) radius */
 #define CG_ANVIL_FIBRE_VERTICAL CG_FLOAT(24.0)  /* noise cells per unit of h: thin, nearly flat sheets */
 #define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(3.0)  /* a fibre is where |n| < 1/3; clear from there */
-#define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.15)   /* no fibres within this radius of the axis ... */
-#define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.45)  /* ... all of them from this radius out */
+#define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.25)   /* no fibres within this radius of the axis ... */
+#define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.55)  /* ... all of them from this radius out (the rim) */
+#define CG_ANVIL_FIBRE_ONSET CG_FLOAT(4.0)      /* full from a quarter of the way up the anvil (u = 1/4) */
 #define CG_SEED_SALT_ANVIL_FIBRE 1274126177
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
@@ -193,19 +194,21 @@ CG_FN float cg_anvil_edge_width(float edge_width, float hl, float anvil, float a
 
 /* Anvil Fibres: how much the raw value r of eq. 3.4 is lowered at generated coordinates g, in
  * [0, CG_ANVIL_FIBRE_DEPTH]: 0 on thin, nearly flat sheets of ice that run out radially from the
- * anvil's (leaned) axis and in the gaps between them up to depth x anvil_fibres x u x min(4 anvil, 1)
- * (u: how far up the anvil, cg_anvil_u), so the anvil's rim breaks into streaks and its body is
- * striated; nothing below the Anvil Height, at Anvil 0 or Anvil Fibres 0 (no noise evaluated), and
- * nothing near the axis (faded in from CG_ANVIL_FIBRE_CORE_IN to _OUT). The noise is one gradient octave plus a
- * half-weight octave at twice the frequency, read at (direction x angular, radius x radial,
- * h_l x vertical) in the anvil's own shape coordinates (fixed seed: the fibres belong to the shape
- * and travel with it). Lowering r never raises the density, so every emptiness proof still holds. */
+ * anvil's (leaned) axis and in the gaps between them up to depth x anvil_fibres x min(4 u, 1) x
+ * min(4 anvil, 1) (u: how far up the anvil, cg_anvil_u) x the rim's weight (0 within
+ * CG_ANVIL_FIBRE_CORE_IN of the axis, 1 from CG_ANVIL_FIBRE_CORE_OUT): the anvil's rim breaks into
+ * streaks while its flat top and the middle stay smooth. Nothing below the Anvil Height, at Anvil 0
+ * or Anvil Fibres 0 (no noise evaluated). The noise is one gradient octave plus a half-weight
+ * octave at twice the frequency, read at (direction x angular, radius x radial, h_l x vertical)
+ * in the anvil's own shape coordinates (fixed seed: the fibres belong to the shape and travel with
+ * it). Lowering r never raises the density, so every emptiness proof still holds. */
 CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, float top_height, float lean,
                                float anvil, float anvil_height, float anvil_fibres) {
   float af = clamp(anvil_fibres, 0, 1);
   if (af <= 0) return 0;
   float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
-  float weight = af * cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil);
+  float weight = af * min(CG_ANVIL_FIBRE_ONSET * cg_anvil_u(hl, anvil_height, top_height), CG_FLOAT(1.0)) *
+                 cg_anvil_on(anvil);
   if (weight <= 0) return 0;
   float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
