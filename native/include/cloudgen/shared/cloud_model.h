@@ -52,11 +52,11 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_CALM CG_FLOAT(0.75)       /* at the ceiling the anvil's distortion is 1 - 0.75 = 1/4 of F */
 /* Anvil Fibres (docs/model.md, "Anvil fibres"): streaks of ice in the anvil, a gradient noise read at the
  * horizontal direction from the anvil's axis (angular), the distance from it (radial) and the height. */
-#define CG_ANVIL_FIBRE_DEPTH CG_FLOAT(0.3)      /* at Anvil Fibres 1 the gaps between fibres lower r by 0.3 */
-#define CG_ANVIL_FIBRE_ANGULAR CG_FLOAT(5.0)    /* noise cells across one radian of direction (~30 around) */
-#define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(6.0)     /* noise cells per unit of the anvil's (narrowed) radius */
+#define CG_ANVIL_FIBRE_DEPTH CG_FLOAT(0.2)      /* at Anvil Fibres 1 the gaps between fibres lower r by 0.2 */
+#define CG_ANVIL_FIBRE_ANGULAR CG_FLOAT(20.0)   /* noise cells across one radian of direction (~125 around) */
+#define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(8.0)     /* noise cells per unit of the anvil's (narrowed) radius */
 #define CG_ANVIL_FIBRE_VERTICAL CG_FLOAT(24.0)  /* noise cells per unit of h: thin, nearly flat sheets */
-#define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(3.0)  /* a fibre is where |n| < 1/3; clear from there */
+#define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(2.0)  /* a fibre is where |n| < 1/2; clear from there */
 #define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.25)   /* no fibres within this radius of the axis ... */
 #define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.55)  /* ... all of them from this radius out (the rim) */
 #define CG_ANVIL_FIBRE_ONSET CG_FLOAT(4.0)      /* full from a quarter of the way up the anvil (u = 1/4) */
