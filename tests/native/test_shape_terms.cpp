@@ -255,12 +255,14 @@ TEST(ShapeTerms, AnvilNarrowsTheTowerAndKeepsItsCore) {
 }
 
 TEST(ShapeTerms, AnvilFibresThinTheAnvilBetweenStreaks) {
-  // Anvil Fibres f lowers the raw value r by cut = 0.2 f min(4 u, 1) min(4 a, 1) rim gap (docs/model.md
-  // 4.1): never more than 0.2 f min(4 u, 1), nothing within 0.25 of the anvil's axis, 0 below the
+  // Anvil Fibres f lowers the raw value r by cut = 0.3 f min(4 u, 1) min(4 a, 1) rim gap (docs/model.md
+  // 4.1): never more than 0.3 f min(4 u, 1), nothing within 0.25 of the anvil's axis, 0 below the
   // Anvil Height and at f = 0 (bit for bit), and on the rim both fibres (cut < 0.03) and gaps
-  // (cut > 0.15). The density never rises (tolerance 0: max(r - cut, 0) is monotone), and the
-  // kernel's density is eq. 3.4 at the lowered shape (tolerance 1e-6 relative).
+  // (cut > 0.29). The density never rises (tolerance 0: max(r - cut, 0) is monotone), and the
+  // kernel's density is eq. 3.4 at the lowered shape (tolerance 1e-6 relative). The cumulonimbus
+  // preset with Anvil Fibres 1.
   cg::Params p = cg::find_preset("cumulonimbus")->params;
+  EXPECT_EQ(p.get(cg::ANVIL_FIBRES), 0.0f) << "the preset keeps a smooth anvil (round 38)";
   p.set(cg::ANVIL_FIBRES, 0.0f);
   const cg::Model smooth = cg::prepare(p);
   p.set(cg::ANVIL_FIBRES, 1.0f);
@@ -281,13 +283,13 @@ TEST(ShapeTerms, AnvilFibresThinTheAnvilBetweenStreaks) {
     const float rim = radius >= 0.55f ? 1.0f : 0.0f;
     const float cut = cg::cg_anvil_fibre_cut(g, cs, fibred.base_height, top, fibred.lean, fibred.anvil, a, 1.0f);
     ASSERT_GE(cut, 0.0f) << "g " << cgtest::str(g);
-    ASSERT_LE(cut, 0.2f * std::min(4 * u, 1.0f) * (1 + 1e-6f)) << "g " << cgtest::str(g) << " u " << u;
+    ASSERT_LE(cut, 0.3f * std::min(4 * u, 1.0f) * (1 + 1e-6f)) << "g " << cgtest::str(g) << " u " << u;
     if (u == 0.0f) {
       ASSERT_EQ(cut, 0.0f) << "below the anvil, g " << cgtest::str(g);
       ++below;
     }
     if (u > 0.5f && rim == 1.0f && cut < 0.03f) ++fibre;
-    if (u > 0.5f && rim == 1.0f && cut > 0.15f) ++gap;
+    if (u > 0.5f && rim == 1.0f && cut > 0.29f) ++gap;
     if (radius < 0.25f) ASSERT_EQ(cut, 0.0f) << "near the axis, g " << cgtest::str(g);
     const float d_smooth = cg::density(smooth, q), d_fibred = cg::density(fibred, q);
     ASSERT_LE(d_fibred, d_smooth) << "at " << cgtest::str(q) << " cut " << cut;

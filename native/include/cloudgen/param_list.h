@@ -66,8 +66,9 @@ CG_PARAM(ANVIL_HEIGHT, "anvil_height", "Anvil Height", "Cloud Main", Float, (0.7
          "Where the anvil starts to spread: from here to the ceiling (Top Height, or the top) the tower widens "
          "into the anvil.")
 CG_PARAM(ANVIL_FIBRES, "anvil_fibres", "Anvil Fibres", "Cloud Main", Float, (0.0f), 0.0f, 1.0f, 0.0f, 1.0f, 0, 1,
-         "", "Breaks the anvil into streaks of ice: thin sheets running out from the tower toward the rim, the gaps "
-         "between them thinned; the flat top and the middle stay smooth; acts only with Anvil; 0 a smooth anvil.")
+         "", "Breaks the anvil's rim into streaks of ice (thin sheets running out from the tower); its flat top and "
+         "middle stay smooth. For a storm seen from afar: close by, from below, the streaks look smeared. Acts only "
+         "with Anvil; 0 a smooth anvil.")
 CG_PARAM(OVERALL_SCALE, "overall_scale", "Overall Scale", "Cloud Noise", Float, (1.0f), 0.01f, 20.0f, 0.1f, 4.0f,
          0, 1, "", "Scales the whole texture: larger values give smaller, more numerous features.")
 CG_PARAM(WORLEY_INFLUENCE, "worley_influence", "Worley Influence", "Cloud Noise", Float, (0.8f), 0.0f, 1.0f, 0.0f,

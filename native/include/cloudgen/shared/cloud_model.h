@@ -50,17 +50,6 @@ CG_NAMESPACE_BEGIN
 #define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
 #define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
 #define CG_ANVIL_CALM CG_FLOAT(0.75)       /* at the ceiling the anvil's distortion is 1 - 0.75 = 1/4 of F */
-/* Anvil Fibres (docs/model.md, "Anvil fibres"): streaks of ice in the anvil, a gradient noise read at the
- * horizontal direction from the anvil's axis (angular), the distance from it (radial) and the height. */
-#define CG_ANVIL_FIBRE_DEPTH CG_FLOAT(0.2)      /* at Anvil Fibres 1 the gaps between fibres lower r by 0.2 */
-#define CG_ANVIL_FIBRE_ANGULAR CG_FLOAT(20.0)   /* noise cells across one radian of direction (~125 around) */
-#define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(8.0)     /* noise cells per unit of the anvil's (narrowed) radius */
-#define CG_ANVIL_FIBRE_VERTICAL CG_FLOAT(24.0)  /* noise cells per unit of h: thin, nearly flat sheets */
-#define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(2.0)  /* a fibre is where |n| < 1/2; clear from there */
-#define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.25)   /* no fibres within this radius of the axis ... */
-#define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.55)  /* ... all of them from this radius out (the rim) */
-#define CG_ANVIL_FIBRE_ONSET CG_FLOAT(4.0)      /* full from a quarter of the way up the anvil (u = 1/4) */
-#define CG_SEED_SALT_ANVIL_FIBRE 1274126177
 #define CG_STRETCH_MAX CG_FLOAT(1.0e6)     /* kernel clamp of Stretch */
 #define CG_SHEAR_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Shear */
 #define CG_TURRET_SCALE_MIN CG_FLOAT(0.01) /* kernel clamp of Turret Size, in Worley cells */
@@ -72,6 +61,17 @@ CG_NAMESPACE_BEGIN
 #define CG_WARP_SCALE_MAX CG_FLOAT(10000.0)
 #define CG_SEED_SALT_WARP_X 668265263
 #define CG_SEED_SALT_WARP_Y 1013904223
+/* Anvil Fibres (docs/model.md, "Anvil fibres"): streaks of ice in the anvil, a gradient noise read at the
+ * horizontal direction from the anvil's axis (angular), the distance from it (radial) and the height. */
+#define CG_ANVIL_FIBRE_DEPTH CG_FLOAT(0.3)     /* at Anvil Fibres 1 the gaps between fibres lower r by 0.3 */
+#define CG_ANVIL_FIBRE_ANGULAR CG_FLOAT(5.0)   /* noise cells across one radian of direction (~30 around) */
+#define CG_ANVIL_FIBRE_RADIAL CG_FLOAT(6.0)    /* noise cells per unit of the anvil's (narrowed) radius */
+#define CG_ANVIL_FIBRE_VERTICAL CG_FLOAT(24.0) /* noise cells per unit of h: thin, nearly flat sheets */
+#define CG_ANVIL_FIBRE_SHARPNESS CG_FLOAT(3.0) /* a fibre is where |n| < 1/3; clear from there */
+#define CG_ANVIL_FIBRE_CORE_IN CG_FLOAT(0.25)  /* no fibres within this radius of the axis ... */
+#define CG_ANVIL_FIBRE_CORE_OUT CG_FLOAT(0.55) /* ... all of them from this radius out (the rim) */
+#define CG_ANVIL_FIBRE_ONSET CG_FLOAT(4.0)     /* full from a quarter of the way up the anvil (u = 1/4) */
+#define CG_SEED_SALT_ANVIL_FIBRE 1274126177
 
 /* ---------------------------------------------------------------- shape --- */
 
@@ -207,8 +207,8 @@ CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, 
   float af = clamp(anvil_fibres, 0, 1);
   if (af <= 0) return 0;
   float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
-  float weight = af * min(CG_ANVIL_FIBRE_ONSET * cg_anvil_u(hl, anvil_height, top_height), CG_FLOAT(1.0)) *
-                 cg_anvil_on(anvil);
+  float weight =
+      af * min(CG_ANVIL_FIBRE_ONSET * cg_anvil_u(hl, anvil_height, top_height), CG_FLOAT(1.0)) * cg_anvil_on(anvil);
   if (weight <= 0) return 0;
   float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
@@ -223,7 +223,8 @@ CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, 
   float z = radius * CG_ANVIL_FIBRE_RADIAL;
   float w = hl * CG_ANVIL_FIBRE_VERTICAL;
   float n = (cg_perlin4(x, y, z, w, CG_SEED_SALT_ANVIL_FIBRE) +
-             CG_FLOAT(0.5) * cg_perlin4(2 * x, 2 * y, 2 * z, 2 * w, CG_SEED_SALT_ANVIL_FIBRE ^ 1)) / CG_FLOAT(1.5);
+             CG_FLOAT(0.5) * cg_perlin4(2 * x, 2 * y, 2 * z, 2 * w, CG_SEED_SALT_ANVIL_FIBRE ^ 1)) /
+            CG_FLOAT(1.5);
   float gap = min(fabs(n) * CG_ANVIL_FIBRE_SHARPNESS, CG_FLOAT(1.0));
   return CG_ANVIL_FIBRE_DEPTH * weight * core * gap;
 }
