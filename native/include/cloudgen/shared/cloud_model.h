@@ -192,6 +192,15 @@ CG_FN float cg_anvil_edge_width(float edge_width, float hl, float anvil, float a
   return w + (1 - w) * (cg_anvil_u(hl, anvil_height, top_height) * cg_anvil_on(anvil));
 }
 
+/* The horizontal shape coordinates (k T_x', k T_y, 0) at generated coordinates g: T = (2G - 1) /
+ * cloud_scale, T_x' leaned downwind with the height, both multiplied by the anvil's narrowing k. */
+CG_FN CG_VEC3 cg_anvil_coords(CG_VEC3 g, float cloud_scale, float lean, float k) {
+  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
+  float tx = cg_lean_x((2 * g[0] - 1) * inv, cg_height(g[2], cloud_scale), lean) * k;
+  float ty = (2 * g[1] - 1) * inv * k;
+  return CG_VEC3(tx, ty, 0);
+}
+
 /* Anvil Fibres: how much the raw value r of eq. 3.4 is lowered at generated coordinates g, in
  * [0, CG_ANVIL_FIBRE_DEPTH]: 0 on thin, nearly flat sheets of ice that run out radially from the
  * anvil's (leaned) axis and in the gaps between them up to depth x anvil_fibres x min(4 u, 1) x
@@ -210,10 +219,9 @@ CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, 
   float weight =
       af * min(CG_ANVIL_FIBRE_ONSET * cg_anvil_u(hl, anvil_height, top_height), CG_FLOAT(1.0)) * cg_anvil_on(anvil);
   if (weight <= 0) return 0;
-  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
-  float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
-  float tx = cg_lean_x((2 * g[0] - 1) * inv, cg_height(g[2], cloud_scale), lean) * k;
-  float ty = (2 * g[1] - 1) * inv * k;
+  CG_VEC3 t = cg_anvil_coords(g, cloud_scale, lean, cg_anvil_narrowing(hl, anvil, anvil_height, top_height));
+  float tx = t[0];
+  float ty = t[1];
   float radius = sqrt(tx * tx + ty * ty);
   float core = smoothstep(CG_ANVIL_FIBRE_CORE_IN, CG_ANVIL_FIBRE_CORE_OUT, radius);
   if (core <= 0) return 0;
@@ -236,12 +244,11 @@ CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, 
  * be > 0. `curve_value` is the curve at clamp(h_l, 0, 1) (mode 1). */
 CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, float curve_value, float base_height,
                      float top_height, float lean, float sheet, float anvil, float anvil_height) {
-  float inv = 1 / clamp(fabs(cloud_scale), CG_CLOUD_SCALE_MIN, CG_CLOUD_SCALE_MAX);
   float h = cg_height(g[2], cloud_scale);
   float hl = cg_shape_height(g[2], cloud_scale, base_height, top_height);
-  float k = cg_anvil_narrowing(hl, anvil, anvil_height, top_height);
-  float tx = cg_lean_x((2 * g[0] - 1) * inv, h, lean) * k;
-  float ty = (2 * g[1] - 1) * inv * k;
+  CG_VEC3 t = cg_anvil_coords(g, cloud_scale, lean, cg_anvil_narrowing(hl, anvil, anvil_height, top_height));
+  float tx = t[0];
+  float ty = t[1];
   float s = cg_profile(hl, mode, exponent, curve_value) - cg_floor_penalty(h, base_height, top_height);
   return s - cg_horizontal(tx, sheet) - cg_horizontal(ty, sheet);
 }
