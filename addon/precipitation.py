@@ -10,16 +10,24 @@ rain shaft" (the storm), overcasts named as one another (docs/gallery/README.md)
 
 The rain is Blender's own data an artist can edit: a box from the ground (z = 0) up to the
 cloud's base, with a Principled Volume whose density is
-    extinction(V) * streaks * curtains * footprint
+    extinction(V) * streaks * curtains * footprint * fall
 - extinction from the visibility in the rain, Koschmieder's 3.912 / V (as the haze in
   addon/landscape.py): moderate rain about 4 km, heavy rain 1-2 km;
 - streaks: a noise STREAK_KM wide and STREAK_LENGTH_KM tall, sheared by `slant` (wind drift:
-  horizontal metres per metre of fall), mapped to 1 -+ STREAK_DEPTH * `streaks` (mean about 1;
-  streaks 0: none): the fall streaks seen from afar;
+  horizontal metres per metre of fall), mapped to 1 -+ STREAK_DEPTH * `streaks` * bundle (mean
+  about 1; streaks 0: none): the fall streaks seen from afar. `bundle`, a second noise
+  BUNDLE_KM wide and BUNDLE_LENGTH_KM tall mapped to [BUNDLE_FLOOR, 1], makes them strong in
+  some bundles and faint in others: with one depth everywhere they read as "a flat grey band
+  with even vertical stripes", "a comb" (blind reviews, rounds 34 and 38);
 - curtains: a noise CURTAIN_KM across, mixed in by `patchiness` (0: an even veil, 1: shafts
   with dry air between);
-- footprint: 1 inside `fill` of the box's half-widths (an ellipse), fading to 0 at its edge.
-  The box is the cloud's own footprint just above its base, measured on the model (rain_box).
+- footprint: 1 inside `fill` of the box's half-widths (an ellipse), fading to 0 at its edge;
+  the radius is moved out by up to RAGGED * `ragged` of the half-width by a noise RAGGED_KM across
+  (sheared as the streaks), so the shaft's sides hang in ragged folds instead of one smooth
+  wall (out only: the density still ends inside the box; `ragged` 0: one smooth wall).
+  The box is the cloud's own footprint just above its base, measured on the model (rain_box);
+- fall: 1 at the cloud's base, GROUND_FRACTION at the ground, linear in height: drops
+  evaporate in the drier air under the base, so the shaft thins as it falls.
 Scattering grey (RAIN_ALBEDO), forward (RAIN_ANISOTROPY: drops are large). The material's step
 rate puts Cycles' steps a third of a streak apart (a procedural volume is stepped at a tenth of
 its box's mean size times the rate; a rain box is wide and low, so that step is far too long).
@@ -56,7 +64,13 @@ EXTINCTION_NODE = "Rain Extinction"
 STREAK_KM = 0.3
 STREAK_LENGTH_KM = 3.0
 STREAK_DEPTH = 0.75
+BUNDLE_KM = 1.2
+BUNDLE_LENGTH_KM = 6.0
+BUNDLE_FLOOR = 0.25
 CURTAIN_KM = 4.0
+RAGGED_KM = 1.5
+RAGGED = 0.25
+GROUND_FRACTION = 0.6
 RAIN_ALBEDO = 0.9
 RAIN_ANISOTROPY = 0.4
 VISIBILITY_KM = (0.5, 50.0)  # accepted range
@@ -64,7 +78,7 @@ DEFAULT_VISIBILITY_KM = 4.0
 # each rain cloud's rain: visibility in it (km), patchiness, and how much of its footprint is
 # full (fill): under a nimbostratus a wide veil, under a cumulonimbus a heavy shaft
 LOOKS = {"nimbostratus": {"visibility_km": 1.5, "patchiness": 0.9, "fill": 0.9},
-         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.25, "fill": 0.45}}
+         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.5, "fill": 0.45}}
 DEFAULT_LOOK = {"visibility_km": DEFAULT_VISIBILITY_KM, "patchiness": 0.5, "fill": 0.6}
 FOOTPRINT_SAMPLES = 65  # per side: the grid rain_box measures the cloud's footprint on
 FOOTPRINT_ABOVE_BASE = 0.05  # ... at this fraction of the box's height above the cloud's base
@@ -120,14 +134,15 @@ def step_rate(half_x: float, half_y: float, height: float) -> float:
     return min(1.0, max(1e-4, units(STREAK_KM) / 3.0 / (0.1 * mean)))
 
 
-def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi):
-    """Noise of `vector` scaled per axis, mapped from [lo, hi] to [to_lo, to_hi] (clamped, smooth)."""
+def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi, detail=2.0):
+    """Noise of `vector` scaled per axis (`detail` octaves), mapped from [lo, hi] to
+    [to_lo, to_hi] (clamped, smooth)."""
     mapping = nt.nodes.new("ShaderNodeMapping")
     mapping.inputs["Scale"].default_value = scale_xyz
     nt.links.new(vector, mapping.inputs["Vector"])
     noise = nt.nodes.new("ShaderNodeTexNoise")
     noise.inputs["Scale"].default_value = 1.0
-    noise.inputs["Detail"].default_value = 2.0
+    noise.inputs["Detail"].default_value = detail
     nt.links.new(mapping.outputs["Vector"], noise.inputs["Vector"])
     ranged = nt.nodes.new("ShaderNodeMapRange")
     ranged.interpolation_type = "SMOOTHSTEP"
@@ -138,7 +153,8 @@ def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi):
     return ranged.outputs["Result"]
 
 
-def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5, fill=0.6, streaks=1.0):
+def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5, fill=0.6, streaks=1.0,
+                  ragged=1.0):
     """A new rain material: see the module's docstring."""
     mat = bpy.data.materials.new(RAIN)
     mat.use_nodes = True
@@ -155,14 +171,20 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     nt.links.new(sep.outputs["Z"], comb.inputs["Z"])
     sheared = comb.outputs[0]
     w, length, c = units(STREAK_KM), units(STREAK_LENGTH_KM), units(CURTAIN_KM)
+    bw, blength = units(BUNDLE_KM), units(BUNDLE_LENGTH_KM)
+    # streaks: 1 + (a signed streak noise) x depth x bundle
+    signed = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.35, 0.65, -1.0, 1.0, detail=4.0)
+    bundle = _noise(nt, sheared, (1 / bw, 1 / bw, 1 / blength), 0.35, 0.65, BUNDLE_FLOOR, 1.0)
     depth = STREAK_DEPTH * streaks
-    streaks = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.35, 0.65, 1.0 - depth, 1.0 + depth)
+    streaks = _math(nt, "ADD", _math(nt, "MULTIPLY", signed, _math(nt, "MULTIPLY", bundle, depth)), 1.0)
     curtain = _noise(nt, sheared, (1 / c, 1 / c, 1 / (4 * c)), 0.4, 0.6, 0.0, 2.0)
     curtains = _math(nt, "ADD", _math(nt, "MULTIPLY", curtain, patchiness), 1.0 - patchiness)
-    # footprint: r = |(x / half_x, y / half_y)|, 1 inside fill, 0 at the edge
+    # footprint: r = |(x / half_x, y / half_y)| moved out by the ragged noise, 1 inside fill, 0 at the edge
     rx = _math(nt, "DIVIDE", sep.outputs["X"], half_x)
     ry = _math(nt, "DIVIDE", sep.outputs["Y"], half_y)
     r = _math(nt, "SQRT", _math(nt, "ADD", _math(nt, "MULTIPLY", rx, rx), _math(nt, "MULTIPLY", ry, ry)))
+    rag = units(RAGGED_KM)
+    r = _math(nt, "ADD", r, _noise(nt, sheared, (1 / rag, 1 / rag, 1 / (4 * rag)), 0.3, 0.7, 0.0, RAGGED * ragged))
     edge = nt.nodes.new("ShaderNodeMapRange")
     edge.interpolation_type = "SMOOTHSTEP"
     edge.clamp = True
@@ -171,7 +193,10 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     nt.links.new(r, edge.inputs["Value"])
     full = _math(nt, "MULTIPLY", edge.outputs["Result"], extinction)
     full.node.name = full.node.label = EXTINCTION_NODE  # its second input: 3.912 / V
-    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains), full)
+    # fall: GROUND_FRACTION at z = 0 rising linearly to 1 at the cloud's base (z = height)
+    fall = _math(nt, "ADD", _math(nt, "MULTIPLY", sep.outputs["Z"], (1.0 - GROUND_FRACTION) / height),
+                 GROUND_FRACTION)
+    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains), _math(nt, "MULTIPLY", full, fall))
     vol = nt.nodes.new("ShaderNodeVolumePrincipled")
     vol.inputs["Color"].default_value = (RAIN_ALBEDO, RAIN_ALBEDO, RAIN_ALBEDO, 1.0)
     vol.inputs["Anisotropy"].default_value = RAIN_ANISOTROPY
@@ -188,7 +213,7 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
 
 
 def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILITY_KM, slant=0.15,
-             patchiness=0.5, fill=0.6, name=RAIN, rot_z=0.0, streaks=1.0):
+             patchiness=0.5, fill=0.6, name=RAIN, rot_z=0.0, streaks=1.0, ragged=1.0):
     """The rain object `name` (replaced on a second call, with its mesh and material): a box
     `2 half_x` by `2 half_y` around `centre` (x, y, scene units), turned by rot_z about z,
     from the ground (z = 0) up to `top` (the cloud's base). Raises ValueError naming the
@@ -202,6 +227,7 @@ def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILIT
     patchiness = _check("patchiness", patchiness, 0.0, 1.0)
     fill = _check("fill", fill, 0.0, 0.99)
     streaks = _check("streaks", streaks, 0.0, 1.0)
+    ragged = _check("ragged", ragged, 0.0, 1.0)
     extinction = rain_extinction(visibility_km)
     old = bpy.data.objects.get(name)
     if old is not None:
@@ -226,6 +252,7 @@ def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILIT
     obj.location = (float(centre[0]), float(centre[1]), 0.0)
     obj.rotation_euler = (0.0, 0.0, float(rot_z))
     obj.display_type = "WIRE"
-    mesh.materials.append(rain_material(extinction, half_x, half_y, top, slant, patchiness, fill, streaks))
+    mesh.materials.append(rain_material(extinction, half_x, half_y, top, slant, patchiness, fill, streaks,
+                                              ragged))
     scene.collection.objects.link(obj)
     return obj
