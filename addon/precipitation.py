@@ -83,7 +83,7 @@ DEFAULT_VISIBILITY_KM = 4.0
 # each rain cloud's rain: visibility in it (km), patchiness, and how much of its footprint is
 # full (fill): under a nimbostratus a wide veil, under a cumulonimbus a heavy shaft
 LOOKS = {"nimbostratus": {"visibility_km": 1.5, "patchiness": 0.9, "fill": 0.9},
-         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.5, "fill": 0.45, "slant": 0.35}}
+         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.85, "fill": 0.45, "slant": 0.35}}
 DEFAULT_LOOK = {"visibility_km": DEFAULT_VISIBILITY_KM, "patchiness": 0.5, "fill": 0.6}
 FOOTPRINT_SAMPLES = 65  # per side: the grid rain_box measures the cloud's footprint on
 FOOTPRINT_ABOVE_BASE = 0.05  # ... at this fraction of the box's height above the cloud's base
@@ -180,8 +180,8 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     bw, blength = units(BUNDLE_KM), units(BUNDLE_LENGTH_KM)
     # streaks: 1 + (signed streak noises of two widths) x depth x bundle
     ww = units(WIDE_STREAK_KM)
-    fine = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.35, 0.65, -1.0 + WIDE_WEIGHT, 1.0 - WIDE_WEIGHT)
-    wide = _noise(nt, sheared, (1 / ww, 1 / ww, 1 / length), 0.35, 0.65, -WIDE_WEIGHT, WIDE_WEIGHT)
+    fine = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.4, 0.6, -1.0 + WIDE_WEIGHT, 1.0 - WIDE_WEIGHT)
+    wide = _noise(nt, sheared, (1 / ww, 1 / ww, 1 / length), 0.4, 0.6, -WIDE_WEIGHT, WIDE_WEIGHT)
     signed = _math(nt, "ADD", fine, wide)
     bundle = _noise(nt, sheared, (1 / bw, 1 / bw, 1 / blength), 0.35, 0.65, BUNDLE_FLOOR, 1.0)
     depth = STREAK_DEPTH * streaks
