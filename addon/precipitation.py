@@ -10,26 +10,16 @@ rain shaft" (the storm), overcasts named as one another (docs/gallery/README.md)
 
 The rain is Blender's own data an artist can edit: a box from the ground (z = 0) up to the
 cloud's base, with a Principled Volume whose density is
-    extinction(V) * streaks * curtains * footprint * fall
+    extinction(V) * streaks * curtains * footprint
 - extinction from the visibility in the rain, Koschmieder's 3.912 / V (as the haze in
   addon/landscape.py): moderate rain about 4 km, heavy rain 1-2 km;
-- streaks: two noises STREAK_LENGTH_KM tall, STREAK_KM and WIDE_STREAK_KM wide (the wider
-  weighted WIDE_WEIGHT: streaks of uneven width and spacing), sheared by `slant` (wind drift:
+- streaks: a noise STREAK_KM wide and STREAK_LENGTH_KM tall, sheared by `slant` (wind drift:
   horizontal metres per metre of fall), mapped to 1 -+ STREAK_DEPTH * `streaks` (mean about 1;
-  streaks 0: none): the fall streaks seen from afar. One noise read as "a comb of even
-  stripes" (blind reviews, rounds 34 and 38); streaks weakened by a third noise (bundles) or
-  under denser curtains read as "a box of grey fog" (round 39: in the gallery's render, 512
-  bounces and denoised, they kept a third of the old streaks' contrast);
+  streaks 0: none): the fall streaks seen from afar;
 - curtains: a noise CURTAIN_KM across, mixed in by `patchiness` (0: an even veil, 1: shafts
   with dry air between);
-- footprint: 1 inside `fill` of the box's half-widths (an ellipse) at the drifted x (the shaft
-  leans downwind as a whole, not only its streaks), fading to 0 at its edge;
-  the radius is moved out by up to RAGGED * `ragged` of the half-width by a noise RAGGED_KM across
-  (sheared as the streaks), so the shaft's sides hang in ragged folds instead of one smooth
-  wall (out only: the density still ends inside the box; `ragged` 0: one smooth wall).
-  The box is the cloud's own footprint just above its base, measured on the model (rain_box);
-- fall: 1 at the cloud's base, GROUND_FRACTION at the ground, linear in height: drops
-  evaporate in the drier air under the base, so the shaft thins as it falls.
+- footprint: 1 inside `fill` of the box's half-widths (an ellipse), fading to 0 at its edge.
+  The box is the cloud's own footprint just above its base, measured on the model (rain_box).
 Scattering grey (RAIN_ALBEDO), forward (RAIN_ANISOTROPY: drops are large). The material's step
 rate puts Cycles' steps a third of a streak apart (a procedural volume is stepped at a tenth of
 its box's mean size times the rate; a rain box is wide and low, so that step is far too long).
@@ -65,13 +55,8 @@ RAIN = "Cloud Rain"
 EXTINCTION_NODE = "Rain Extinction"
 STREAK_KM = 0.3
 STREAK_LENGTH_KM = 3.0
-STREAK_DEPTH = 0.6
-WIDE_STREAK_KM = 0.75
-WIDE_WEIGHT = 0.6
+STREAK_DEPTH = 0.75
 CURTAIN_KM = 4.0
-RAGGED_KM = 1.5
-RAGGED = 0.25
-GROUND_FRACTION = 0.6
 RAIN_ALBEDO = 0.9
 RAIN_ANISOTROPY = 0.4
 VISIBILITY_KM = (0.5, 50.0)  # accepted range
@@ -79,7 +64,7 @@ DEFAULT_VISIBILITY_KM = 4.0
 # each rain cloud's rain: visibility in it (km), patchiness, and how much of its footprint is
 # full (fill): under a nimbostratus a wide veil, under a cumulonimbus a heavy shaft
 LOOKS = {"nimbostratus": {"visibility_km": 1.5, "patchiness": 0.9, "fill": 0.9},
-         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.25, "fill": 0.45, "slant": 0.35}}
+         "cumulonimbus": {"visibility_km": 1.5, "patchiness": 0.25, "fill": 0.45}}
 DEFAULT_LOOK = {"visibility_km": DEFAULT_VISIBILITY_KM, "patchiness": 0.5, "fill": 0.6}
 FOOTPRINT_SAMPLES = 65  # per side: the grid rain_box measures the cloud's footprint on
 FOOTPRINT_ABOVE_BASE = 0.05  # ... at this fraction of the box's height above the cloud's base
@@ -135,15 +120,14 @@ def step_rate(half_x: float, half_y: float, height: float) -> float:
     return min(1.0, max(1e-4, units(STREAK_KM) / 3.0 / (0.1 * mean)))
 
 
-def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi, detail=2.0):
-    """Noise of `vector` scaled per axis (`detail` octaves), mapped from [lo, hi] to
-    [to_lo, to_hi] (clamped, smooth)."""
+def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi):
+    """Noise of `vector` scaled per axis, mapped from [lo, hi] to [to_lo, to_hi] (clamped, smooth)."""
     mapping = nt.nodes.new("ShaderNodeMapping")
     mapping.inputs["Scale"].default_value = scale_xyz
     nt.links.new(vector, mapping.inputs["Vector"])
     noise = nt.nodes.new("ShaderNodeTexNoise")
     noise.inputs["Scale"].default_value = 1.0
-    noise.inputs["Detail"].default_value = detail
+    noise.inputs["Detail"].default_value = 2.0
     nt.links.new(mapping.outputs["Vector"], noise.inputs["Vector"])
     ranged = nt.nodes.new("ShaderNodeMapRange")
     ranged.interpolation_type = "SMOOTHSTEP"
@@ -154,8 +138,7 @@ def _noise(nt, vector, scale_xyz, lo, hi, to_lo, to_hi, detail=2.0):
     return ranged.outputs["Result"]
 
 
-def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5, fill=0.6, streaks=1.0,
-                  ragged=1.0):
+def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5, fill=0.6, streaks=1.0):
     """A new rain material: see the module's docstring."""
     mat = bpy.data.materials.new(RAIN)
     mat.use_nodes = True
@@ -167,27 +150,19 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     # wind drift: x + slant * (height - z), the streaks lean downwind as they fall
     drift = _math(nt, "MULTIPLY", _math(nt, "SUBTRACT", height, sep.outputs["Z"]), slant)
     comb = nt.nodes.new("ShaderNodeCombineXYZ")
-    drifted_x = _math(nt, "ADD", sep.outputs["X"], drift)
-    nt.links.new(drifted_x, comb.inputs["X"])
+    nt.links.new(_math(nt, "ADD", sep.outputs["X"], drift), comb.inputs["X"])
     nt.links.new(sep.outputs["Y"], comb.inputs["Y"])
     nt.links.new(sep.outputs["Z"], comb.inputs["Z"])
     sheared = comb.outputs[0]
     w, length, c = units(STREAK_KM), units(STREAK_LENGTH_KM), units(CURTAIN_KM)
-    # streaks: 1 + (signed streak noises of two widths) x depth
-    ww = units(WIDE_STREAK_KM)
-    fine = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.35, 0.65, -1.0, 1.0)
-    wide = _noise(nt, sheared, (1 / ww, 1 / ww, 1 / length), 0.35, 0.65, -WIDE_WEIGHT, WIDE_WEIGHT)
     depth = STREAK_DEPTH * streaks
-    streaks = _math(nt, "ADD", _math(nt, "MULTIPLY", _math(nt, "ADD", fine, wide), depth), 1.0)
+    streaks = _noise(nt, sheared, (1 / w, 1 / w, 1 / length), 0.35, 0.65, 1.0 - depth, 1.0 + depth)
     curtain = _noise(nt, sheared, (1 / c, 1 / c, 1 / (4 * c)), 0.4, 0.6, 0.0, 2.0)
     curtains = _math(nt, "ADD", _math(nt, "MULTIPLY", curtain, patchiness), 1.0 - patchiness)
-    # footprint: r = |(x / half_x, y / half_y)| at the drifted x (the shaft leans downwind as a
-    # whole) moved out by the ragged noise, 1 inside fill, 0 at the edge
-    rx = _math(nt, "DIVIDE", drifted_x, half_x)
+    # footprint: r = |(x / half_x, y / half_y)|, 1 inside fill, 0 at the edge
+    rx = _math(nt, "DIVIDE", sep.outputs["X"], half_x)
     ry = _math(nt, "DIVIDE", sep.outputs["Y"], half_y)
     r = _math(nt, "SQRT", _math(nt, "ADD", _math(nt, "MULTIPLY", rx, rx), _math(nt, "MULTIPLY", ry, ry)))
-    rag = units(RAGGED_KM)
-    r = _math(nt, "ADD", r, _noise(nt, sheared, (1 / rag, 1 / rag, 1 / (4 * rag)), 0.3, 0.7, 0.0, RAGGED * ragged))
     edge = nt.nodes.new("ShaderNodeMapRange")
     edge.interpolation_type = "SMOOTHSTEP"
     edge.clamp = True
@@ -196,10 +171,7 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
     nt.links.new(r, edge.inputs["Value"])
     full = _math(nt, "MULTIPLY", edge.outputs["Result"], extinction)
     full.node.name = full.node.label = EXTINCTION_NODE  # its second input: 3.912 / V
-    # fall: GROUND_FRACTION at z = 0 rising linearly to 1 at the cloud's base (z = height)
-    fall = _math(nt, "ADD", _math(nt, "MULTIPLY", sep.outputs["Z"], (1.0 - GROUND_FRACTION) / height),
-                 GROUND_FRACTION)
-    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains), _math(nt, "MULTIPLY", full, fall))
+    density = _math(nt, "MULTIPLY", _math(nt, "MULTIPLY", streaks, curtains), full)
     vol = nt.nodes.new("ShaderNodeVolumePrincipled")
     vol.inputs["Color"].default_value = (RAIN_ALBEDO, RAIN_ALBEDO, RAIN_ALBEDO, 1.0)
     vol.inputs["Anisotropy"].default_value = RAIN_ANISOTROPY
@@ -216,7 +188,7 @@ def rain_material(extinction, half_x, half_y, height, slant=0.15, patchiness=0.5
 
 
 def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILITY_KM, slant=0.15,
-             patchiness=0.5, fill=0.6, name=RAIN, rot_z=0.0, streaks=1.0, ragged=1.0):
+             patchiness=0.5, fill=0.6, name=RAIN, rot_z=0.0, streaks=1.0):
     """The rain object `name` (replaced on a second call, with its mesh and material): a box
     `2 half_x` by `2 half_y` around `centre` (x, y, scene units), turned by rot_z about z,
     from the ground (z = 0) up to `top` (the cloud's base). Raises ValueError naming the
@@ -230,7 +202,6 @@ def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILIT
     patchiness = _check("patchiness", patchiness, 0.0, 1.0)
     fill = _check("fill", fill, 0.0, 0.99)
     streaks = _check("streaks", streaks, 0.0, 1.0)
-    ragged = _check("ragged", ragged, 0.0, 1.0)
     extinction = rain_extinction(visibility_km)
     old = bpy.data.objects.get(name)
     if old is not None:
@@ -255,7 +226,6 @@ def add_rain(scene, centre, half_x, half_y, top, visibility_km=DEFAULT_VISIBILIT
     obj.location = (float(centre[0]), float(centre[1]), 0.0)
     obj.rotation_euler = (0.0, 0.0, float(rot_z))
     obj.display_type = "WIRE"
-    mesh.materials.append(rain_material(extinction, half_x, half_y, top, slant, patchiness, fill, streaks,
-                                              ragged))
+    mesh.materials.append(rain_material(extinction, half_x, half_y, top, slant, patchiness, fill, streaks))
     scene.collection.objects.link(obj)
     return obj
