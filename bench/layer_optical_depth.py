@@ -10,8 +10,13 @@ definition).
 Usage: PYTHONPATH=build/python .venv/bin/python bench/layer_optical_depth.py [--columns 4000]
 """
 import argparse
+import pathlib
+import sys
 
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "scripts"))
+from render_cloud import is_layer  # noqa: E402  the one layer rule (a Sheet), as the gallery's
 
 STEPS = 200
 # the layer genus's ISCCP class (its cell in the cloud-top pressure x optical depth table; the
@@ -26,7 +31,7 @@ def column_depths(values, columns, rng):
     import cloudgen_native as cn
 
     bx, by, bz = values["box_size"]
-    frac = 0.2 if bx > 10 else 0.3
+    frac = 0.2 if is_layer(values) else 0.3
     xs = rng.uniform(-frac * bx, frac * bx, columns)
     ys = rng.uniform(-frac * by, frac * by, columns)
     zs = (np.arange(STEPS) + 0.5) / STEPS * bz - bz / 2
