@@ -1,8 +1,10 @@
 """A camera's averaging meter for cloud frames: the frame's mean scene-linear luminance from a
-small test render, and the rule that takes a frame with the sun's glow in it down to twice a
-sunny frame's light. Used by the add-on's Meter Exposure (light_setup.py) and by the
-gallery (scripts/gallery.py); imports none of the add-on's other modules (the gallery loads it
-by its path). docs/lighting.md has the measurements.
+small test render, the rule that takes a frame with the sun's glow in it down to twice a
+sunny frame's light, and the rule for a frame under a sheet that hides the sun (exposed for
+the overcast's own light, OVERCAST_KEY; whether the sun is hidden: sunlit_share). Used by the
+add-on's Meter Exposure (light_setup.py) and by the gallery (scripts/gallery.py); imports none
+of the add-on's other modules (the gallery loads it by its path). docs/lighting.md has the
+measurements.
 
 Exposed for a sunny frame (sky_light.exposure_for), a view toward the sun through a thin veil
 sits in AgX's shoulder: a cirrostratus's whole 22° halo came out at 240-250 of 255 and two
@@ -22,6 +24,103 @@ SUNNY_LIGHT = 3.2
 # A sunlit frame metered above this is exposed down to it (the veils toward the sun read 44-58).
 GLARE_LIGHT = 2.0 * SUNNY_LIGHT
 METER_SIZE, METER_SAMPLES = (96, 54), 4
+# Under a sheet that hides the sun, a camera is exposed for the overcast's own light, as an
+# averaging meter would: the frame's mean scene-linear luminance to OVERCAST_KEY. Exposed for
+# the hidden sun the nimbostratus with its rain came out at display levels 18-48, near black.
+# 0.12 until round 40 (a grey day a little under middle grey): the stratus side-on's sky at 112
+# and its fields at 21-29, "murky near-black, like dusk"; one stop more (sky 162, fields 43-55)
+# was chosen in all four answers of a blind paired trial (docs/gallery/blind_review_round40.md)
+OVERCAST_KEY = 0.24
+# How far the sun is hidden: the share of its direct light that reaches the ground within
+# SHARE_RADIUS_KM of the camera (sunlit_share). At or below SHARE_OVERCAST a frame is exposed
+# for the overcast's own light, at or above SHARE_SUNNY for the sun; in between the exposure
+# moves smoothly (in stops, by the log of the share), so a sun or a deck moving through an
+# animation never makes the exposure jump. In the gallery's shots the three overcasts let
+# through at most 1 %, the stratocumulus 3-11 %, the cirrostratus 19 %, the other layers 26 %
+# and more, a compact cloud all of it (tests/python/test_exposure_meter.py).
+SHARE_OVERCAST, SHARE_SUNNY = 0.03, 0.3
+SHARE_RADIUS_KM = 2.0
+SHARE_STEPS = 64        # midpoint steps along a sun ray inside one cloud's box
+SHARE_GRID = 16         # SHARE_GRID x SHARE_GRID ground points in the disc
+
+
+def overcast_exposure(light: float) -> float:
+    """Film exposure (stops) that takes a frame metered at `light` (scene-linear, exposure 0) to
+    OVERCAST_KEY."""
+    return math.log2(OVERCAST_KEY / max(light, 1e-6))
+
+
+def overcast_weight(share: float) -> float:
+    """0 (the sun's exposure) at share >= SHARE_SUNNY, 1 (the overcast's) at share <=
+    SHARE_OVERCAST, a smoothstep of log(share) in between."""
+    lo, hi = math.log(SHARE_OVERCAST), math.log(SHARE_SUNNY)
+    x = (hi - math.log(min(max(share, 1e-9), 1.0))) / (hi - lo)
+    x = min(max(x, 0.0), 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+def blended_exposure(sunny: float, light: float, share: float) -> float:
+    """The frame's exposure (stops): `sunny` (the sun's exposure, its glare compensation
+    included) moved toward overcast_exposure(light) by overcast_weight(share)."""
+    w = overcast_weight(share)
+    return sunny + w * (overcast_exposure(light) - sunny)
+
+
+def ground_disc(centre, radius: float, grid: int = SHARE_GRID):
+    """Points (N, 3) on a grid x grid lattice over the square around `centre` (x, y, z), kept
+    where they lie within `radius` of it, all at the centre's height."""
+    import numpy as np  # noqa: PLC0415
+
+    u = (np.arange(grid) + 0.5) / grid * 2.0 - 1.0
+    x, y = np.meshgrid(u, u, indexing="ij")
+    keep = x.ravel() ** 2 + y.ravel() ** 2 <= 1.0
+    pts = np.zeros((int(keep.sum()), 3))
+    pts[:, 0] = centre[0] + radius * x.ravel()[keep]
+    pts[:, 1] = centre[1] + radius * y.ravel()[keep]
+    pts[:, 2] = centre[2]
+    return pts
+
+
+def sun_transmittance(clouds, points, toward_sun, density, steps: int = SHARE_STEPS):
+    """The share of the sun's direct light that reaches each of `points` (N, 3; world): exp of
+    minus the optical depth along the ray toward the sun (`toward_sun`, a world direction)
+    through every cloud. clouds: (values, to_model) pairs, to_model a 4x4 matrix from world
+    to the cloud's model frame (its box centred on the origin, box_size across, lengths as in
+    the world: rotation and translation only); density: cloudgen_native.density (extinction
+    per unit length). Each ray is sampled at `steps` midpoints over its stretch inside the box."""
+    import numpy as np  # noqa: PLC0415
+
+    d = np.asarray(toward_sun, dtype=np.float64)
+    d = d / max(float(np.linalg.norm(d)), 1e-12)
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    depth = np.zeros(len(pts))
+    for values, to_model in clouds:
+        m = np.asarray(to_model, dtype=np.float64)
+        o = pts @ m[:3, :3].T + m[:3, 3]
+        v = m[:3, :3] @ d
+        half = np.asarray(values["box_size"], dtype=np.float64) / 2.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = np.where(np.abs(v) > 1e-12, 1.0 / v, np.inf)
+            ta, tb = (-half - o) * inv, (half - o) * inv
+        ta = np.where(np.isnan(ta), -np.inf, ta)  # a ray parallel to a slab it lies in
+        tb = np.where(np.isnan(tb), np.inf, tb)
+        t0 = np.maximum(np.minimum(ta, tb).max(axis=1), 0.0)
+        t1 = np.maximum(ta, tb).min(axis=1)
+        hit = t1 > t0
+        if not hit.any():
+            continue
+        s = (np.arange(steps) + 0.5) / steps
+        t = t0[hit, None] + (t1 - t0)[hit, None] * s[None, :]
+        samples = o[hit, None, :] + t[..., None] * v[None, None, :]
+        rho = np.asarray(density(values, samples.reshape(-1, 3)), dtype=np.float64).reshape(-1, steps)
+        depth[hit] += rho.sum(axis=1) * (t1 - t0)[hit] / steps
+    return np.exp(-depth)
+
+
+def sunlit_share(clouds, points, toward_sun, density) -> float:
+    """The mean of sun_transmittance over `points`: the share of the sun's direct light that
+    reaches that ground (1 with no cloud in the way)."""
+    return float(sun_transmittance(clouds, points, toward_sun, density).mean())
 
 
 def glare_compensation(light: float) -> float:

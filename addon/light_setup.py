@@ -9,9 +9,19 @@ import shutil
 import tempfile
 
 import bpy
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
-from . import checks, cloud_object, exposure_meter, landscape, operators, sky_light, volume_material, volume_object
+from . import (
+    bridge,
+    checks,
+    cloud_object,
+    exposure_meter,
+    landscape,
+    operators,
+    sky_light,
+    volume_material,
+    volume_object,
+)
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
@@ -210,18 +220,61 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         return {"FINISHED"}
 
 
-def metered_exposure(sun, light):
-    """(exposure, stops of glare compensation) for a frame whose meter reads `light` (scene-linear,
-    exposure_meter.frame_luminance) under the Sun lamp `sun`: the exposure for the lamp's light
-    (sky_light.exposure_for_irradiance), taken down as the gallery takes a frame with the sun's
-    glow in it (exposure_meter.glare_compensation). The reading is scaled to the sky's own sun at
-    the lamp's height first, as the bound was measured under it: an artist's sun twice as strong
-    reads twice the light and gets the same compensation."""
+def rendered_clouds(scene):
+    """(parameters, world -> model matrix) of each cloud the render shows (its procedural box
+    or its baked volume), for exposure_meter.sun_transmittance. A cloud whose parameters or
+    box cannot be read is left out."""
+    found = []
+    for obj in scene.objects:
+        if not cloud_object.is_cloud(obj):
+            continue
+        baked = volume_object.baked_object(obj)
+        if obj.hide_render and (baked is None or baked.hide_render):
+            continue
+        try:
+            values = cloud_object.params_from_object(obj)
+        except LookupError:
+            continue
+        if min(obj.dimensions) <= 0.0:
+            continue
+        # the unit cube scaled to the box: scaling the inverse back by the box leaves the rotation
+        to_model = Matrix.Diagonal((*obj.dimensions, 1.0)) @ obj.matrix_world.inverted_safe()
+        found.append((values, [list(row) for row in to_model]))
+    return found
+
+
+def sunlit_share(scene, sun) -> float:
+    """The share of the Sun lamp's direct light that reaches the ground within
+    exposure_meter.SHARE_RADIUS_KM of the camera through the scene's clouds (1 without clouds
+    or the native module)."""
+    clouds = rendered_clouds(scene)
+    if not clouds or scene.camera is None or bridge.native() is None:
+        return 1.0
+    toward, _ = volume_material.sun_light(sun)
+    at = scene.camera.matrix_world.translation
+    points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM))
+    try:
+        return exposure_meter.sunlit_share(clouds, points, toward, bridge.native().density)
+    except (ValueError, TypeError):  # a cloud whose parameters the core rejects: not counted
+        return 1.0
+
+
+def metered_exposure(sun, light, share=1.0):
+    """(exposure, stops of glare compensation, overcast weight) for a frame whose meter reads
+    `light` (scene-linear, exposure_meter.frame_luminance) under the Sun lamp `sun`, where
+    `share` of the sun's direct light reaches the ground (sunlit_share): the exposure for the
+    lamp's light (sky_light.exposure_for_irradiance), taken down as the gallery takes a frame
+    with the sun's glow in it (exposure_meter.glare_compensation), and moved toward the
+    overcast's own exposure as the sun is hidden (exposure_meter.blended_exposure). The reading
+    is scaled to the sky's own sun at the lamp's height for the glare, as its bound was
+    measured under it: an artist's sun twice as strong reads twice the light and gets the same
+    compensation."""
     toward, rgb = volume_material.sun_light(sun)
     elevation = max(math.degrees(math.asin(max(min(toward[2], 1.0), -1.0))), 2.0)
     scale = sky_light.luminance(sky_light.sun_irradiance(elevation)) / max(sky_light.luminance(rgb), 1e-6)
     stops = exposure_meter.glare_compensation(light * scale)
-    return sky_light.exposure_for_irradiance(rgb) + stops, stops
+    sunny = sky_light.exposure_for_irradiance(rgb) + stops
+    return exposure_meter.blended_exposure(sunny, light, share), stops, exposure_meter.overcast_weight(share)
 
 
 class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
@@ -250,12 +303,15 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
         return sun
 
     def _apply(self, scene, sun, light, before):
-        scene.view_settings.exposure, stops = metered_exposure(sun, light)
+        share = sunlit_share(scene, sun)
+        scene.view_settings.exposure, stops, weight = metered_exposure(sun, light, share)
         if getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", 0.0) > 0.0:  # kept relative (0: off)
             scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
-        glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 else ""
+        glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 and weight < 1.0 else ""
+        hidden = (f", the sun {1.0 - share:.0%} hidden: exposed {weight:.0%} for the overcast's own light"
+                  if weight > 0.0 else "")
         self.report({"INFO"}, f"Metered {light:.3g}: exposure {before:+.2f} -> {scene.view_settings.exposure:+.2f}"
-                              + glare)
+                              + glare + hidden)
 
     def execute(self, context):
         scene = context.scene

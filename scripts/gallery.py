@@ -24,8 +24,9 @@ The scene: the Nishita sky, the matched sun lamp, AgX and white balance, the add
 Landscape (hilly ground, haze; clean air for the towers: CLEAN_AIR_KM), rain under the rain
 clouds (addon/precipitation.py), 512 volume bounces, OpenImageDenoise where Blender has it
 (GALLERY_NO_DENOISE=1: off). Under the
-grey overcasts the camera is balanced and exposed for the overcast's own light (exposure_meter.frame_luminance());
-a sunlit frame with the sun's glare in it is exposed down to GLARE_LIGHT.
+grey overcasts the camera is balanced for the overcast's own light; every frame is exposed by
+the add-on's meter (addon/exposure_meter.py): a sunlit frame with the sun's glare in it down to
+GLARE_LIGHT, a frame whose deck hides the sun for its metered light (sunlit_share).
 Each PNG render also gets its camera finish, NN.jpg (vignetting, sensor grain, in-camera
 sharpening, JPEG: scripts/camera_finish.py; --no-finish: none); measure on the PNG.
 Files are numbered in a shuffled order (NN.png, no type in the name) so a reviewer sees no
@@ -76,15 +77,10 @@ CLEAN_AIR_KM = 200.0
 # sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
 # round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
 OVERCAST_BALANCE_K = 5700.0
-# ... and it is exposed for the overcast's own light, as a camera's averaging meter would: the
-# frame's mean scene-linear luminance to OVERCAST_KEY. Exposed for the hidden sun
-# (sky_light.exposure_for) the nimbostratus with its rain came out at display levels 18-48, near
-# black, its rain streaks invisible (320x180 test). 0.12 until round 40 (a grey day a little
-# under middle grey): the stratus side-on's sky at 112 and its fields at 21-29, "murky near-black,
-# like dusk"; one stop more (sky 162, fields 43-55) was chosen in all four answers of a blind
-# paired trial, "a normally exposed overcast day" (docs/gallery/blind_review_round40.md)
-OVERCAST_KEY = 0.24
-# the camera's auto-ISO (scripts/camera_finish.py) reads the same meter: its ISO 100 at
+# ... and exposed for the overcast's own light, as the add-on's Meter Exposure exposes it: moved
+# from the sun's exposure to the frame's metered light at exposure_meter.OVERCAST_KEY as the deck
+# hides the sun from the ground around the camera (exposure_meter.blended_exposure; the three
+# overcasts let through at most 1 % of it, so they take the overcast's exposure whole)
 # The camera's meter (addon/exposure_meter.py, shared with the add-on's Meter Exposure):
 # SUNNY_LIGHT, the median frame luminance of the round-15 gallery's sunlit frames without the
 # sun's glow (2.15-4.71); a sunlit frame metered above GLARE_LIGHT (twice that) is exposed down
@@ -109,6 +105,20 @@ SIDE_LIT_AZIMUTH = 140.0
 # where forward scattering shows thin ice (at 120° a Cs veil's phase, g 0.75, is a tenth of that
 # and the reviewer saw no cloud)
 SUN_AHEAD = {"cirrus": 45.0}
+
+
+def sunlit_share(values, centre, cam_at, scene):
+    """The share of the sun's direct light reaching the ground around the camera through the
+    main cloud (a layer: its widened deck; the add-on's rule, exposure_meter.sunlit_share, with
+    the sun lamp sky_light.daylight placed)."""
+    import cloudgen_native as cn
+
+    vm = render_cloud._addon_file("volume_material")
+    toward, _ = vm.sun_light(vm.scene_sun(scene))
+    to_model = [[1.0, 0.0, 0.0, -centre[0]], [0.0, 1.0, 0.0, -centre[1]], [0.0, 0.0, 1.0, -centre[2]],
+                [0.0, 0.0, 0.0, 1.0]]
+    points = meter.ground_disc(cam_at, gs.km(meter.SHARE_RADIUS_KM))
+    return meter.sunlit_share([(values, to_model)], points, tuple(toward), cn.density)
 
 
 def sun_direction(name, view, sun, compact):
@@ -254,12 +264,11 @@ def shot(name, view, sun, values, baked, out_png, args):
                             half=ls.units(ls.TERRAIN_HALF_KM) if gs.is_layer(values) else None)
         rain.add_rain(scene, box[:2], box[2], box[3], box[4], **rain.LOOKS[name])
     light = meter.frame_luminance(scene)  # what a camera's meter reads: auto-ISO, exposure
-    if name in gs.OVERCAST:
-        scene.view_settings.exposure = math.log2(OVERCAST_KEY / light)
-        print(f"gallery: {name} {view}: metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
-    elif light > GLARE_LIGHT:
-        scene.view_settings.exposure += glare_compensation(light)
-        print(f"gallery: {name} {view}: the sun's glare, exposure {scene.view_settings.exposure:+.2f}", flush=True)
+    share = sunlit_share(gs.widened(name, values), centre, cam_at, scene)
+    sunny = scene.view_settings.exposure + glare_compensation(light)
+    scene.view_settings.exposure = meter.blended_exposure(sunny, light, share)
+    print(f"gallery: {name} {view}: sunlit share {share:.3f}, sunny exposure {sunny:+.2f}, "
+          f"metered exposure {scene.view_settings.exposure:+.2f}", flush=True)
     iso = camera_finish.iso_for_light(light, SUNNY_LIGHT)
     print(f"gallery: {name} {view}: frame luminance {light:.4g}, ISO {iso:.0f}", flush=True)
     scene.cycles.use_denoising = sl.denoiser_built_in() and not os.environ.get("GALLERY_NO_DENOISE")

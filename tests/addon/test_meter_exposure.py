@@ -7,7 +7,10 @@ as in tests/blender/test_gallery_meter.py). With the add-on's sun at 40°: up to
 exposure is sky_light.exposure_for(40) (0.02 stops); at S = 4 x GLARE_LIGHT two stops less. An
 artist's sun twice as strong: one stop less for its light, and the same two stops for a frame
 twice as bright. Without a sun lamp: a clear error, nothing changed. The scene's render settings
-come back as they were."""
+come back as they were. A stratus deck above the camera that hides the sun (it lets through
+well under exposure_meter.SHARE_OVERCAST of the sun's direct light; the deck is out of the
+frame): the overcast's exposure, log2(OVERCAST_KEY / S) (0.02 stops); the same deck hidden from
+the render: the sun's exposure again."""
 import math
 
 import pytest
@@ -58,3 +61,24 @@ def test_meter_exposure_needs_a_sun(addon, scene, uniform_world):
     with pytest.raises(RuntimeError, match="needs a Sun lamp"):
         bpy.ops.cloudgen.meter_exposure()
     assert scene.view_settings.exposure == 1.25
+
+
+def test_meter_exposure_under_a_deck(addon, scene, uniform_world):
+    import bpy
+
+    sl, meter = addon.sky_light, addon.exposure_meter
+    _camera_looking_down(scene)
+    sl.make_sun(scene, 40.0, 0.0)
+    radiance = 2.0
+    uniform_world(scene, radiance)
+    deck = addon.cloud_object.create_cloud(bpy.context, "stratus", location=(0.0, 0.0, 3.0))  # 1.5 thick
+    share = addon.light_setup.sunlit_share(scene, addon.volume_material.scene_sun(scene))
+    assert share < meter.SHARE_OVERCAST, f"the stratus deck lets {share:.3f} of the sun through"
+    assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
+    want, got = math.log2(meter.OVERCAST_KEY / radiance), scene.view_settings.exposure
+    assert abs(got - want) < STOPS, \
+        f"S {radiance:g} under the deck (share {share:.4f}): exposure {got:.4f}, want {want:.4f}"
+    deck.hide_render = True
+    assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
+    want, got = sl.exposure_for(40.0), scene.view_settings.exposure
+    assert abs(got - want) < STOPS, f"S {radiance:g}, the deck hidden: exposure {got:.4f}, want {want:.4f}"
