@@ -40,6 +40,10 @@ OVERCAST_KEY = 0.24
 # and more, a compact cloud all of it (tests/python/test_exposure_meter.py).
 SHARE_OVERCAST, SHARE_SUNNY = 0.03, 0.3
 SHARE_RADIUS_KM = 2.0
+# ... and balanced for the overcast's own light, not the sun's: balanced to a low sun (4,600 K)
+# the gallery's stratus deck came out blue-grey ("B - R = 24", round 5), unbalanced (6,500 K)
+# beige (B - R = -11, 320x180 test); 5,700 K lies between
+OVERCAST_BALANCE_K = 5700.0
 SHARE_STEPS = 64        # midpoint steps along a sun ray inside one cloud's box
 SHARE_GRID = 16         # SHARE_GRID x SHARE_GRID ground points in the disc
 
@@ -64,6 +68,13 @@ def blended_exposure(sunny: float, light: float, share: float) -> float:
     included) moved toward overcast_exposure(light) by overcast_weight(share)."""
     w = overcast_weight(share)
     return sunny + w * (overcast_exposure(light) - sunny)
+
+
+def blended_balance(sun_k: float, share: float) -> float:
+    """White balance (K) for the sun's `sun_k` moved toward OVERCAST_BALANCE_K by
+    overcast_weight(share), in mired (1e6 / K: even steps of colour)."""
+    w = overcast_weight(share)
+    return 1.0e6 / ((1.0 - w) * 1.0e6 / sun_k + w * 1.0e6 / OVERCAST_BALANCE_K)
 
 
 def ground_disc(centre, radius: float, grid: int = SHARE_GRID):

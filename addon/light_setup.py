@@ -277,6 +277,21 @@ def metered_exposure(sun, light, share=1.0):
     return exposure_meter.blended_exposure(sunny, light, share), stops, exposure_meter.overcast_weight(share)
 
 
+def overcast_balance(scene, sun, share):
+    """Under a deck that hides the sun (exposure_meter.overcast_weight(share) > 0), with the
+    scene's white balance on (Blender 4.3+): balance toward the overcast's own light,
+    exposure_meter.blended_balance from the sun's (sky_light's, at the lamp's height) and
+    return the temperature; otherwise leave the balance as it is and return None."""
+    vs = scene.view_settings
+    if exposure_meter.overcast_weight(share) <= 0.0 or not getattr(vs, "use_white_balance", False):
+        return None
+    toward, _ = volume_material.sun_light(sun)
+    elevation = math.degrees(math.asin(max(min(toward[2], 1.0), -1.0)))
+    sun_k = max(sky_light.sun_temperature(elevation), sky_light.WHITE_BALANCE_FLOOR_K)
+    vs.white_balance_temperature = exposure_meter.blended_balance(sun_k, share)
+    return vs.white_balance_temperature
+
+
 class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     """Set the exposure as a camera's meter would, from a small test render (96 x 54): the
     exposure for the sun lamp's light, taken down when the sun's glow fills the frame (a view
@@ -310,6 +325,9 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
         glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 and weight < 1.0 else ""
         hidden = (f", the sun {1.0 - share:.0%} hidden: exposed {weight:.0%} for the overcast's own light"
                   if weight > 0.0 else "")
+        balance = overcast_balance(scene, sun, share)
+        if balance is not None:
+            hidden += f", white balance {balance:.0f} K"
         self.report({"INFO"}, f"Metered {light:.3g}: exposure {before:+.2f} -> {scene.view_settings.exposure:+.2f}"
                               + glare + hidden)
 

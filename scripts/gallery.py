@@ -73,10 +73,9 @@ HILLS_KM = {"stratus": 2.5, "nimbostratus": 1.0}
 # visibility in docs/lighting.md; round 9: "evenly pale grey-green, no sunlit side"). The layers
 # keep landscape.VISIBILITY_KM: their far edge is hidden in it.
 CLEAN_AIR_KM = 200.0
-# under a sheet that hides the sun (gs.OVERCAST) a camera is balanced to the overcast's own light, not to the
-# sun: balanced to the low sun (4,600 K) the stratus deck came out blue-grey ("B - R = 24",
-# round 5), unbalanced (6,500 K) beige (B - R = -11, 320x180 test); 5,700 K lies between
-OVERCAST_BALANCE_K = 5700.0
+# under a sheet that hides the sun (gs.OVERCAST) a camera is balanced to the overcast's own
+# light, exposure_meter.OVERCAST_BALANCE_K, not to the sun (by name, not by the measured share as
+# Meter Exposure does: the altostratus side-on, its sun in the frame, keeps the sun's balance)
 # ... and exposed for the overcast's own light, as the add-on's Meter Exposure exposes it: moved
 # from the sun's exposure to the frame's metered light at exposure_meter.OVERCAST_KEY as the deck
 # hides the sun from the ground around the camera (exposure_meter.blended_exposure; the three
@@ -252,7 +251,7 @@ def shot(name, view, sun, values, baked, out_png, args):
     render_cloud._addon_file("volume_material").point_halos(scene)  # the ice veils' 22° halo
     sun_seen = view == "side" and sun == "low" and name in SUN_IN_VIEW_SIDE  # its light, its balance
     if name in gs.OVERCAST and not sun_seen and hasattr(scene.view_settings, "use_white_balance"):
-        scene.view_settings.white_balance_temperature = OVERCAST_BALANCE_K
+        scene.view_settings.white_balance_temperature = meter.OVERCAST_BALANCE_K
     ls = render_cloud._addon_file("landscape")
     ls.landscape(scene, centre=cam_at[:2], haze_top=gs.haze_top(name), hill_km=HILLS_KM.get(name, ls.HILL_KM),
                  visibility_km=ls.VISIBILITY_KM if gs.is_layer(values) else CLEAN_AIR_KM)

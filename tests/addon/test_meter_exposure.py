@@ -9,8 +9,9 @@ artist's sun twice as strong: one stop less for its light, and the same two stop
 twice as bright. Without a sun lamp: a clear error, nothing changed. The scene's render settings
 come back as they were. A stratus deck above the camera that hides the sun (it lets through
 well under exposure_meter.SHARE_OVERCAST of the sun's direct light; the deck is out of the
-frame): the overcast's exposure, log2(OVERCAST_KEY / S) (0.02 stops); the same deck hidden from
-the render: the sun's exposure again."""
+frame): the overcast's exposure, log2(OVERCAST_KEY / S) (0.02 stops) and, white balance on,
+OVERCAST_BALANCE_K (1 K); the same deck hidden from the render: the sun's exposure again, the
+balance left as it was."""
 import math
 
 import pytest
@@ -74,11 +75,24 @@ def test_meter_exposure_under_a_deck(addon, scene, uniform_world):
     deck = addon.cloud_object.create_cloud(bpy.context, "stratus", location=(0.0, 0.0, 3.0))  # 1.5 thick
     share = addon.light_setup.sunlit_share(scene, addon.volume_material.scene_sun(scene))
     assert share < meter.SHARE_OVERCAST, f"the stratus deck lets {share:.3f} of the sun through"
+    vs = scene.view_settings
+    vs.use_white_balance, vs.white_balance_temperature = True, 4800.0
     assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
-    want, got = math.log2(meter.OVERCAST_KEY / radiance), scene.view_settings.exposure
+    want, got = math.log2(meter.OVERCAST_KEY / radiance), vs.exposure
     assert abs(got - want) < STOPS, \
         f"S {radiance:g} under the deck (share {share:.4f}): exposure {got:.4f}, want {want:.4f}"
+    assert abs(vs.white_balance_temperature - meter.OVERCAST_BALANCE_K) < 1.0, vs.white_balance_temperature
     deck.hide_render = True
+    vs.white_balance_temperature = 4800.0
     assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
-    want, got = sl.exposure_for(40.0), scene.view_settings.exposure
+    want, got = sl.exposure_for(40.0), vs.exposure
     assert abs(got - want) < STOPS, f"S {radiance:g}, the deck hidden: exposure {got:.4f}, want {want:.4f}"
+    assert vs.white_balance_temperature == 4800.0, vs.white_balance_temperature
+
+
+def test_blended_balance(addon):
+    meter = addon.exposure_meter
+    assert abs(meter.blended_balance(4600.0, 1.0) - 4600.0) < 1e-6
+    assert abs(meter.blended_balance(4600.0, 0.0) - meter.OVERCAST_BALANCE_K) < 1e-6
+    mid = meter.blended_balance(4600.0, 0.1)
+    assert 4600.0 < mid < meter.OVERCAST_BALANCE_K, mid
