@@ -295,7 +295,8 @@ def overcast_balance(scene, sun, share):
 class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     """Set the exposure as a camera's meter would, from a small test render (96 x 54): the
     exposure for the sun lamp's light, taken down when the sun's glow fills the frame (a view
-    toward the sun through a veil, where the 22° halo would otherwise burn out)"""
+    toward the sun through a veil, where the 22° halo would otherwise burn out), and under a
+    deck that hides the sun the exposure (and white balance) for the overcast's own light"""
     bl_idname = "cloudgen.meter_exposure"
     bl_label = "Meter Exposure"
     bl_options = {"REGISTER", "UNDO"}
