@@ -115,7 +115,11 @@ def test_interrupted_run_resumes_without_recomputing(client, tmp_path):
     with pytest.raises(KeyboardInterrupt):
         runner.run(settings(tmp_path / "c.vdb", *args, bricks=6), client=client, on_unit=stop_after_two)
     assert not (tmp_path / "c.vdb").exists()
-    client.restart()  # nothing of the first run still runs (its CLIs get SIGTERM with their worker)
+    # nothing of the first run still runs (its CLIs get SIGTERM with their worker). The workers'
+    # restart is waited for up to 10 min, not Dask's 2: beside a render on both cores (the main
+    # job during a full test run) one worker took longer than 120 s to come back. A bound on
+    # liveness, not a speed assertion.
+    client.restart(timeout=600)
     bricks = sorted((tmp_path / ".cloudgen-dask").glob("bricks_*/*.vdb"))
     assert 2 <= len(bricks) < 6, bricks  # the finished units are on disk, not all of them
     summary = runner.run(settings(tmp_path / "c.vdb", *args, bricks=6), client=client)
