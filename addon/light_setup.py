@@ -220,6 +220,11 @@ class CLOUDGEN_OT_sky_setup(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def _elevation(toward) -> float:
+    """Degrees above the horizon of the unit direction `toward`."""
+    return math.degrees(math.asin(max(min(toward[2], 1.0), -1.0)))
+
+
 def rendered_clouds(scene):
     """(parameters, world -> model matrix) of each cloud the render shows (its procedural box
     or its baked volume), for exposure_meter.sun_transmittance. A cloud whose parameters or
@@ -231,9 +236,9 @@ def rendered_clouds(scene):
         baked = volume_object.baked_object(obj)
         if obj.hide_render and (baked is None or baked.hide_render):
             continue
-        try:
-            values = cloud_object.params_from_object(obj)
-        except LookupError:
+        try:  # validated one by one: a cloud the core rejects is left out, the others still count
+            values = bridge.resolve_params(cloud_object.params_from_object(obj))
+        except (LookupError, ValueError, TypeError):
             continue
         if min(obj.dimensions) <= 0.0:
             continue
@@ -247,16 +252,15 @@ def sunlit_share(scene, sun) -> float:
     """The share of the Sun lamp's direct light that reaches the ground within
     exposure_meter.SHARE_RADIUS_KM of the camera through the scene's clouds (1 without clouds
     or the native module)."""
+    if scene.camera is None or bridge.native() is None:
+        return 1.0
     clouds = rendered_clouds(scene)
-    if not clouds or scene.camera is None or bridge.native() is None:
+    if not clouds:
         return 1.0
     toward, _ = volume_material.sun_light(sun)
     at = scene.camera.matrix_world.translation
     points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM))
-    try:
-        return exposure_meter.sunlit_share(clouds, points, toward, bridge.native().density)
-    except (ValueError, TypeError):  # a cloud whose parameters the core rejects: not counted
-        return 1.0
+    return exposure_meter.sunlit_share(clouds, points, toward, bridge.native().density)
 
 
 def metered_exposure(sun, light, share=1.0):
@@ -270,7 +274,7 @@ def metered_exposure(sun, light, share=1.0):
     measured under it: an artist's sun twice as strong reads twice the light and gets the same
     compensation."""
     toward, rgb = volume_material.sun_light(sun)
-    elevation = max(math.degrees(math.asin(max(min(toward[2], 1.0), -1.0))), 2.0)
+    elevation = max(_elevation(toward), 2.0)
     scale = sky_light.luminance(sky_light.sun_irradiance(elevation)) / max(sky_light.luminance(rgb), 1e-6)
     stops = exposure_meter.glare_compensation(light * scale)
     sunny = sky_light.exposure_for_irradiance(rgb) + stops
@@ -286,7 +290,7 @@ def overcast_balance(scene, sun, share):
     if exposure_meter.overcast_weight(share) <= 0.0 or not getattr(vs, "use_white_balance", False):
         return None
     toward, _ = volume_material.sun_light(sun)
-    elevation = math.degrees(math.asin(max(min(toward[2], 1.0), -1.0)))
+    elevation = _elevation(toward)
     sun_k = max(sky_light.sun_temperature(elevation), sky_light.WHITE_BALANCE_FLOOR_K)
     vs.white_balance_temperature = exposure_meter.blended_balance(sun_k, share)
     return vs.white_balance_temperature
