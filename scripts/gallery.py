@@ -152,15 +152,12 @@ def parse_args(argv):
     return ap.parse_args(argv)
 
 
-def bake(name, values, out_vdb, resolution, ring=None, supersample=1):
+def bake(name, values, out_vdb, resolution, supersample=1):
     """`cloudgen bake` of these values to out_vdb, unless a file with the same bake key is
-    there (--update); ring (inner, outer or None): only that square ring (--ring); supersample:
-    samples per voxel axis (--supersample)."""
+    there (--update); supersample: samples per voxel axis (--supersample)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(dict(values, preset=name), f)
     extra = ["--supersample", str(supersample)] if supersample > 1 else []
-    if ring:
-        extra += ["--ring", f"{ring[0]:.6g}" + ("" if ring[1] is None else f",{ring[1]:.6g}")]
     try:
         subprocess.run([str(ROOT / "build" / "bin" / "cloudgen"), "bake", "--params", f.name, "--resolution",
                         str(resolution), "--output", out_vdb, "--quiet", "--max-memory", "16", "--update"] + extra,
@@ -177,14 +174,21 @@ def bake_all(name, values, work, args):
     if gs.is_layer(values):
         levels = []
         for k, (lv, res, inner, outer) in enumerate(gs.layer_levels(name, values, w)):
-            # baked as a full square out to the ring's outer edge, its hole filled (the material's
-            # mask keeps it to its ring): with the hole left out of the VDB, Cycles dropped the
+            # baked as the level's whole square, twice as wide as the ring its material keeps
+            # (gs.ring_mask), so that no volume's boundary stands where its density is not zero.
+            # A Cycles volume's bounds follow the VDB's active voxels, and behind such a wall
+            # Cycles mishandles the rays: with the ring's hole left out of the VDB it dropped the
             # density in a wedge behind the hole's wall (rounds 7 and 8, stratocumulus side-on:
-            # "a bright triangle with a hard vertical edge, like a stitching seam", x = 295-325;
-            # a 640x360 border render of it showed the wedge, gone with the hole filled). The bakes
-            # themselves match the model there (max |VDB - density| 1.5e-4 at 2.9 mean density)
+            # "a bright triangle with a hard vertical edge, like a stitching seam"); baked out to
+            # the ring's outer edge only (until 2026-12-02), the sun shone through behind level
+            # 1's outer wall, 14.3 km out: a lit patch of haze and deck with a hard vertical edge
+            # and a flat top ("a faint circular arc", rounds 41 and 42; 80x72 border renders of
+            # it, docs/gallery/ring_seam.png: gone with the sun lamp hidden, with level 0 alone,
+            # and with every level baked whole; not changed by a finer step, 128 transparent
+            # bounces, or levels cross-faded over a quarter of the ring). The bakes themselves
+            # match the model (max |VDB - density| 1.5e-4 at 2.9 mean density)
             path = bake(name, lv, os.path.join(work, f"{name}_L{k}.vdb"), res,
-                        ring=None if outer is None else (0.0, outer), supersample=gs.level_supersample(lv, res))
+                        supersample=gs.level_supersample(lv, res))
             levels.append((path, inner, outer))
         return {"levels": levels}
     main_res = args.resolution * gs.MAIN_RESOLUTION_SCALE.get(name, 1)

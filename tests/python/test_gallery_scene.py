@@ -284,3 +284,26 @@ def test_glare_is_metered_down_and_sunny_frames_are_not():
     assert abs(gallery.glare_compensation(45.26) - math.log2(gallery.GLARE_LIGHT / 45.26)) < 1e-12
     assert gallery.glare_compensation(gallery.GLARE_LIGHT * 1.000001) < 0.0
     assert abs(gallery.glare_compensation(gallery.GLARE_LIGHT * 1.000001)) < 1e-5
+
+
+def test_layer_levels_are_baked_whole(monkeypatch, tmp_path):
+    """Each nested level of a layer is baked as its whole square (no --ring), so that no volume's
+    boundary stands where its masked density is not zero: baked out to its ring's outer edge
+    only, level 1's wall let the sun through behind it, a lit patch with a hard edge in the
+    stratocumulus side-on (rounds 41-42, scripts/gallery.py's bake_all). Checked on the
+    command lines bake_all would run (nothing is baked)."""
+    import argparse
+
+    import gallery
+
+    commands = []
+    monkeypatch.setattr(gallery.subprocess, "run", lambda cmd, check: commands.append(cmd))
+    args = argparse.Namespace(size="640x360", resolution=256)
+    values = _values("stratocumulus")
+    baked = gallery.bake_all("stratocumulus", values, str(tmp_path), args)
+    levels = gs.layer_levels("stratocumulus", values, 640)
+    assert len(commands) == len(levels) == len(baked["levels"]), (len(commands), len(levels))
+    for cmd, (lv, res, inner, outer) in zip(commands, levels):
+        assert "--ring" not in cmd, cmd
+        assert cmd[cmd.index("--resolution") + 1] == str(res), (cmd, res)
+    assert [(i, o) for _, i, o in baked["levels"]] == [(i, o) for _, _, i, o in levels]
