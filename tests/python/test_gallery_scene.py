@@ -303,7 +303,7 @@ def test_layer_levels_are_baked_whole(monkeypatch, tmp_path):
     baked = gallery.bake_all("stratocumulus", values, str(tmp_path), args)
     levels = gs.layer_levels("stratocumulus", values, 640)
     assert len(commands) == len(levels) == len(baked["levels"]), (len(commands), len(levels))
-    for cmd, (lv, res, inner, outer) in zip(commands, levels):
+    for cmd, (_, res, _, _) in zip(commands, levels):
         assert "--ring" not in cmd, cmd
         assert cmd[cmd.index("--resolution") + 1] == str(res), (cmd, res)
     assert [(i, o) for _, i, o in baked["levels"]] == [(i, o) for _, _, i, o in levels]
