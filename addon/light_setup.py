@@ -25,6 +25,18 @@ from . import (
 from .panel import wrapped_label
 
 MIN_BOUNCES = operators.MIN_CLOUD_BOUNCES
+# The sidebar's "the sun is hidden" line (sun_hidden): a frame exposed within HIDDEN_HINT_STOPS
+# of the Sun lamp's own exposure (sky_light.exposure_for_irradiance) while the clouds take the
+# overcast's weight to at least HIDDEN_HINT_WEIGHT (exposure_meter.overcast_weight) renders
+# dark. Its share of sunlight is a coarse one (HINT_GRID x HINT_GRID ground points, HINT_STEPS
+# per ray: about a sixteenth of Meter Exposure's work), cached until the sun, the camera or a
+# cloud changes; Meter Exposure records the exposure it set (METERED_KEY on the scene) and
+# the line stays away while the exposure is that one.
+HIDDEN_HINT_STOPS = 0.5
+HIDDEN_HINT_WEIGHT = 0.5
+HINT_GRID, HINT_STEPS = 8, 16
+METERED_KEY = "cloudgen_metered_exposure"
+_hint_share = {"key": None, "share": 1.0}
 
 
 def view_azimuth(scene) -> float:
@@ -43,7 +55,8 @@ def view_azimuth(scene) -> float:
 
 def dark_settings(scene):
     """[(text, fix)] — settings of this scene that make its clouds render dark or clipped, and
-    the fix operator's `what` for each ("" when there is no one-click fix)."""
+    the fix operator's `what` for each ("" when there is no one-click fix; "METER": Meter
+    Exposure is the fix)."""
     if not any(cloud_object.is_cloud(o) for o in scene.objects):
         return []
     found = []
@@ -74,7 +87,45 @@ def dark_settings(scene):
     world = scene.world
     if not suns and (world is None or not world.use_nodes):
         found.append(("No light and no sky: the clouds are black (Cloud Sky & Sun adds both)", ""))
+    hidden = sun_hidden(scene)
+    if hidden is not None:
+        share, sunny = hidden
+        found.append((f"The clouds hide the sun from the ground around the camera (about {share:.0%} of its "
+                      f"light gets through), and exposure {scene.view_settings.exposure:+.1f} is the sun's "
+                      f"({sunny:+.1f}): the frame renders dark. Meter Exposure exposes for the overcast",
+                      "METER"))
     return found
+
+
+def sun_hidden(scene):
+    """(share, the sun's exposure) when the scene's clouds hide the Sun lamp from the ground
+    around the camera (exposure_meter.overcast_weight(share) >= HIDDEN_HINT_WEIGHT) while the
+    frame is exposed for the sun (within HIDDEN_HINT_STOPS of sky_light.exposure_for_irradiance,
+    and not what Meter Exposure set); None otherwise, or without a sun, a camera or the core."""
+    sun = volume_material.scene_sun(scene)
+    if sun is None or sun.data.energy <= 0.0 or scene.camera is None or bridge.native() is None:
+        return None
+    exposure = scene.view_settings.exposure
+    if abs(exposure - float(scene.get(METERED_KEY, math.inf))) < 1e-4:
+        return None
+    toward, rgb = volume_material.sun_light(sun)
+    sunny = sky_light.exposure_for_irradiance(rgb)
+    if exposure > sunny + HIDDEN_HINT_STOPS:
+        return None
+    clouds = rendered_clouds(scene)
+    if not clouds:
+        return None
+    at = scene.camera.matrix_world.translation
+    key = (tuple(round(c, 6) for c in toward), tuple(round(c, 6) for c in at), repr(clouds))
+    if key != _hint_share["key"]:
+        points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM),
+                                            HINT_GRID)
+        transmitted = exposure_meter.sun_transmittance(clouds, points, toward, bridge.native().density, HINT_STEPS)
+        _hint_share.update(key=key, share=float(transmitted.mean()))
+    share = _hint_share["share"]
+    if exposure_meter.overcast_weight(share) < HIDDEN_HINT_WEIGHT:
+        return None
+    return share, sunny
 
 
 def _few_bounces(volume: int, total: int):
@@ -325,6 +376,7 @@ class CLOUDGEN_OT_meter_exposure(bpy.types.Operator):
     def _apply(self, scene, sun, light, before):
         share = sunlit_share(scene, sun)
         scene.view_settings.exposure, stops, weight = metered_exposure(sun, light, share)
+        scene[METERED_KEY] = scene.view_settings.exposure  # the sidebar's sun_hidden line keeps away
         if getattr(getattr(scene, "cycles", None), "sample_clamp_indirect", 0.0) > 0.0:  # kept relative (0: off)
             scene.cycles.sample_clamp_indirect = sky_light.indirect_clamp(scene.view_settings.exposure)
         glare = f", {stops:+.1f} stops for the sun's glare" if stops < 0.0 and weight < 1.0 else ""
@@ -433,7 +485,9 @@ def draw(layout, context):
         # got half the width and Blender cut its wrapped lines short: "Cumulo…", "End is 1…")
         col = layout.column(align=True)
         wrapped_label(col, text, "ERROR", context)
-        if fix:
+        if fix == "METER":
+            col.operator(CLOUDGEN_OT_meter_exposure.bl_idname, icon="CAMERA_DATA")
+        elif fix:
             col.operator(CLOUDGEN_OT_fix_dark.bl_idname, text="Fix").what = fix
 
 

@@ -96,3 +96,45 @@ def test_blended_balance(addon):
     assert abs(meter.blended_balance(4600.0, 0.0) - meter.OVERCAST_BALANCE_K) < 1e-6
     mid = meter.blended_balance(4600.0, 0.1)
     assert 4600.0 < mid < meter.OVERCAST_BALANCE_K, mid
+
+
+def test_sidebar_says_when_the_sun_is_hidden(addon, scene, uniform_world):
+    """The sidebar's line (light_setup.sun_hidden, fix "METER") under the stratus deck while the
+    frame has the sun's exposure; gone once Meter Exposure has set the overcast's, back when the
+    exposure is put back to the sun's, and absent with the deck hidden from the render or with
+    no deck. Its coarse share agrees with Meter Exposure's to 0.01 (both well under
+    SHARE_OVERCAST here)."""
+    import time
+
+    import bpy
+
+    sl, meter, ls = addon.sky_light, addon.exposure_meter, addon.light_setup
+    _camera_looking_down(scene)
+    sun = sl.make_sun(scene, 40.0, 0.0)
+    uniform_world(scene, 2.0)
+    vs = scene.view_settings
+    sunny = sl.exposure_for(40.0)
+    vs.exposure = sunny
+
+    def meter_lines():
+        return [text for text, fix in ls.dark_settings(scene) if fix == "METER"]
+
+    assert meter_lines() == [], "no cloud: no line"
+    deck = addon.cloud_object.create_cloud(bpy.context, "stratus", location=(0.0, 0.0, 3.0))
+    start = time.perf_counter()
+    lines = meter_lines()
+    first = time.perf_counter() - start
+    start = time.perf_counter()
+    assert meter_lines() == lines
+    print(f"sun_hidden: {first * 1e3:.1f} ms, cached {(time.perf_counter() - start) * 1e3:.1f} ms")
+    assert len(lines) == 1 and "Meter Exposure" in lines[0], ls.dark_settings(scene)
+    coarse, _ = ls.sun_hidden(scene)
+    full = ls.sunlit_share(scene, sun)
+    assert abs(coarse - full) < 0.01 and coarse < meter.SHARE_OVERCAST, (coarse, full)
+    assert bpy.ops.cloudgen.meter_exposure() == {"FINISHED"}
+    assert vs.exposure > sunny + ls.HIDDEN_HINT_STOPS, (vs.exposure, sunny)
+    assert meter_lines() == [], "metered for the overcast: no line"
+    vs.exposure = sunny + 0.25  # an artist puts the sun's exposure back, near enough
+    assert len(meter_lines()) == 1, ls.dark_settings(scene)
+    deck.hide_render = True
+    assert meter_lines() == [], "the deck hidden from the render: no line"
