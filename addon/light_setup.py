@@ -90,7 +90,8 @@ def dark_settings(scene):
     hidden = sun_hidden(scene)
     if hidden is not None:
         share, sunny = hidden
-        found.append((f"The clouds hide the sun from the ground around the camera (about {share:.0%} of its "
+        through = "under 1 %" if share < 0.01 else f"about {share:.0%}"
+        found.append((f"The clouds hide the sun from the ground around the camera ({through} of its "
                       f"light gets through), and exposure {scene.view_settings.exposure:+.1f} is the sun's "
                       f"({sunny:+.1f}): the frame renders dark. Meter Exposure exposes for the overcast",
                       "METER"))
