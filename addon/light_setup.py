@@ -119,10 +119,7 @@ def sun_hidden(scene):
     at = scene.camera.matrix_world.translation
     key = (tuple(round(c, 6) for c in toward), tuple(round(c, 6) for c in at), repr(clouds))
     if key != _hint_share["key"]:
-        points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM),
-                                            HINT_GRID)
-        transmitted = exposure_meter.sun_transmittance(clouds, points, toward, bridge.native().density, HINT_STEPS)
-        _hint_share.update(key=key, share=float(transmitted.mean()))
+        _hint_share.update(key=key, share=_ground_share(clouds, scene, toward, HINT_GRID, HINT_STEPS))
     share = _hint_share["share"]
     if exposure_meter.overcast_weight(share) < HIDDEN_HINT_WEIGHT:
         return None
@@ -300,6 +297,15 @@ def rendered_clouds(scene):
     return found
 
 
+def _ground_share(clouds, scene, toward, grid=exposure_meter.SHARE_GRID, steps=exposure_meter.SHARE_STEPS):
+    """exposure_meter's share of the sun's direct light (from direction `toward`) through
+    `clouds` (rendered_clouds) on a grid x grid disc of exposure_meter.SHARE_RADIUS_KM around the
+    scene camera's foot, `steps` per ray."""
+    at = scene.camera.matrix_world.translation
+    points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM), grid)
+    return float(exposure_meter.sun_transmittance(clouds, points, toward, bridge.native().density, steps).mean())
+
+
 def sunlit_share(scene, sun) -> float:
     """The share of the Sun lamp's direct light that reaches the ground within
     exposure_meter.SHARE_RADIUS_KM of the camera through the scene's clouds (1 without clouds
@@ -309,10 +315,7 @@ def sunlit_share(scene, sun) -> float:
     clouds = rendered_clouds(scene)
     if not clouds:
         return 1.0
-    toward, _ = volume_material.sun_light(sun)
-    at = scene.camera.matrix_world.translation
-    points = exposure_meter.ground_disc((at.x, at.y, at.z), landscape.units(exposure_meter.SHARE_RADIUS_KM))
-    return exposure_meter.sunlit_share(clouds, points, toward, bridge.native().density)
+    return _ground_share(clouds, scene, volume_material.sun_light(sun)[0])
 
 
 def metered_exposure(sun, light, share=1.0):
