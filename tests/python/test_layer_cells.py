@@ -2,12 +2,13 @@
 its gaps widen upward, so the sun lights sloping flanks in a gap rather than straight walls.
 
 Until 2026-12-03 its Shape Gradient stayed near 0.3 from the base to three quarters of the
-height, the share of cloud at a height (where S + F (1/2 - N) > 0, the sheet's horizontal
+height. The share of cloud at a height (where S + F (1/2 - N) > 0, the sheet's horizontal
 term being 0) was 82-86 % at 0.15 and 69-73 % at 0.75 (0.84-0.85 times): in a vertical cut
 the cells filled the deck from base to top with near-vertical sides
 (docs/gallery/trials/stratocumulus_vertical_cut.png), and side-on the lit walls of a gap made
-"a squarish glow" with straight vertical edges (blind round 43). The curve now falls from 0.36 at the base to 0 at 0.875: 87-90 % at 0.15, 47-51 % at 0.75
-(0.54-0.56 times; both measured 2026-12-03 on the four seeds below).
+"a squarish glow" with straight vertical edges (blind round 43). The curve now falls from
+0.36 at the base to 0 at 0.875: 87-90 % at 0.15, 47-51 % at 0.75 (0.54-0.56 times; both
+measured 2026-12-03 on the four seeds below).
 
 Tolerance: each share is over 20,000 random points of the inner half of the deck (its standard
 error about 0.3 %); the bounds leave more than 5 points on either side of what was measured."""
