@@ -138,10 +138,12 @@ float shape_upper_bound(const Model& m, vec3 lo, vec3 hi) {
   float tx_lo, tx_hi, ty_lo, ty_hi;
   scaled_interval(t_lo[0] - shift_max, t_hi[0] - shift_min, k_min, k_max, tx_lo, tx_hi);
   scaled_interval(t_lo[1], t_hi[1], k_min, k_max, ty_lo, ty_hi);
-  const float s_max = core_max(m, hl_lo, hl_hi) - penalty - min_horizontal(tx_lo, tx_hi, m.sheet) -
+  // the sheet's cap is non-decreasing in h: at least its value at the region's lowest h
+  const float cap = cg_sheet_cap(ha, m.sheet);
+  const float s_max = core_max(m, hl_lo, hl_hi) - penalty - cap - min_horizontal(tx_lo, tx_hi, m.sheet) -
                       min_horizontal(ty_lo, ty_hi, m.sheet);
   // 1e-4 (relative to the largest term) absorbs the rounding differences between this bound and the kernel
-  const float scale = 1.0f + penalty + tx_lo * tx_lo + tx_hi * tx_hi + ty_lo * ty_lo + ty_hi * ty_hi;
+  const float scale = 1.0f + penalty + cap + tx_lo * tx_lo + tx_hi * tx_hi + ty_lo * ty_lo + ty_hi * ty_hi;
   return s_max + 0.5f * std::fabs(m.distortion) + 1e-4f * scale;
 }
 

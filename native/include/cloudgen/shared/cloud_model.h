@@ -46,6 +46,8 @@ CG_NAMESPACE_BEGIN
 #define CG_LEAN_LIMIT CG_FLOAT(1000.0)     /* kernel clamp of Lean */
 #define CG_SHEET_MARGIN CG_FLOAT(0.5)      /* a sheet fades over the outer half of its half-width */
 #define CG_SHEET_FALLOFF 2                 /* the sheet's fade term where |T| = 1 (the cloud's edge) */
+#define CG_SHEET_CAP_WIDTH CG_FLOAT(0.125) /* a sheet closes over the top eighth of its height ... */
+#define CG_SHEET_CAP_DEPTH 2               /* ... its shape lowered by up to 2 there: empty at the top */
 #define CG_ANVIL_SPREAD 4                  /* at Anvil 1 the shape below the anvil is narrowed 1 + 4 = 5 times */
 #define CG_ANVIL_LIMIT CG_FLOAT(1000.0)    /* kernel clamp of Anvil */
 #define CG_ANVIL_MIN_DEPTH CG_FLOAT(0.01)  /* the anvil's flare spans at least 1 % of the cloud's height */
@@ -143,6 +145,23 @@ CG_FN float cg_horizontal(float t, float sheet) {
   return t * t;
 }
 
+/* A sheet's cap: how far its shape is lowered near the top of its box, sheet x CG_SHEET_CAP_DEPTH x
+ * u^2 with u = (h - (1 - CG_SHEET_CAP_WIDTH)) / CG_SHEET_CAP_WIDTH clamped to [0, 1]. A sheet keeps
+ * its profile up to the top (h = 1, the box's top face at Cloud Scale 1), where a profile of 0 still
+ * leaves cloud wherever the noise is below 1/2 (about 43 % of the face): the box cut the cells off
+ * flat, a hard lid. Lowered by 2 at h = 1 (the profile is at most 1 and |F| / 2 at most 1 in the
+ * declared ranges) the top face of a full sheet is provably empty; the quadratic starts level, so
+ * the cells close over the top eighth in rounded tops. Non-decreasing in h, so a bound taken at the
+ * lowest h of a region holds; exactly 0 at Sheet 0 (compact clouds unchanged bit for bit). */
+CG_FN float cg_sheet_cap(float h, float sheet) {
+  float k = clamp(sheet, 0, 1);
+  if (k > 0) {
+    float u = clamp((h - (1 - CG_SHEET_CAP_WIDTH)) / CG_SHEET_CAP_WIDTH, 0, 1);
+    return k * CG_SHEET_CAP_DEPTH * (u * u);
+  }
+  return 0;
+}
+
 /* The x shape coordinate leaned downwind (+x) with height: T_x - lean h_c^2. */
 CG_FN float cg_lean_x(float tx, float h, float lean) {
   float hc = clamp(h, 0, 1);
@@ -237,7 +256,7 @@ CG_FN float cg_anvil_fibre_cut(CG_VEC3 g, float cloud_scale, float base_height, 
   return CG_ANVIL_FIBRE_DEPTH * weight * core * gap;
 }
 
-/* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - H(k T_x') - H(k T_y)
+/* Shape term of eq. 3.4 with the shape terms: S(h_l) - floor - cap - H(k T_x') - H(k T_y)
  * with T = (2G - 1) / cloud_scale, h_l = cg_shape_height, T_x' leaned, k the
  * anvil's narrowing. At the defaults (base -0.5, top 1.5, lean 0, sheet 0,
  * anvil 0) this is S(h) - T_x^2 - T_y^2 bit for bit wherever the density can
@@ -249,7 +268,8 @@ CG_FN float cg_shape(CG_VEC3 g, float cloud_scale, int mode, float exponent, flo
   CG_VEC3 t = cg_anvil_coords(g, cloud_scale, lean, cg_anvil_narrowing(hl, anvil, anvil_height, top_height));
   float tx = t[0];
   float ty = t[1];
-  float s = cg_profile(hl, mode, exponent, curve_value) - cg_floor_penalty(h, base_height, top_height);
+  float s = cg_profile(hl, mode, exponent, curve_value) - cg_floor_penalty(h, base_height, top_height) -
+            cg_sheet_cap(h, sheet);
   return s - cg_horizontal(tx, sheet) - cg_horizontal(ty, sheet);
 }
 
