@@ -18,7 +18,7 @@ namespace cg {
 // Bumped whenever the kernel's output changes for the same Model. The test
 // Golden.KernelMatchesTheDensityFingerprint (tests/native/test_golden.cpp)
 // fails on such a change and says how to regenerate its fingerprint file.
-inline constexpr int kFieldKeyVersion = 4;  // 4: Anvil Fibres (2026-12-02)
+inline constexpr int kFieldKeyVersion = 5;  // 5: the sheet's cap (2026-12-03); 4: Anvil Fibres (2026-12-02)
 
 std::string field_key(const Model& m);
 std::string field_key(const Params& p);
