@@ -12,28 +12,18 @@ measured 2026-12-03 on the four seeds below).
 
 Tolerance: each share is over 20,000 random points of the inner half of the deck (its standard
 error about 0.3 %); the bounds leave more than 5 points on either side of what was measured."""
-import cloudgen_native as cn
 import numpy as np
 import pytest
+from layer_points import cloud_share, preset_values
 
-POINTS = 20000
-INNER = 0.3  # of the half-width: inside the sheet's inner half, where its horizontal term is 0
 LOW, HIGH = 0.15, 0.75  # heights in the box (0 its floor, 1 its ceiling)
 CLOSED_AT_BASE = 0.8  # least share of cloud just above the base
 WIDENING = 0.7  # the share at HIGH is at most this fraction of the share at LOW
 
 
-def cloud_share(values, height, rng):
-    bx, by, bz = values["box_size"]
-    pts = np.stack([rng.uniform(-INNER, INNER, POINTS) * bx / 2, rng.uniform(-INNER, INNER, POINTS) * by / 2,
-                    np.full(POINTS, (height - 0.5) * bz)], axis=1)
-    return float((cn.density(values, pts) > 0).mean())
-
-
 @pytest.mark.parametrize("seed", range(4))
 def test_stratocumulus_gaps_widen_upward(seed):
-    values = dict(cn.defaults(), **cn.presets()["stratocumulus"]["params"])
-    values["seed"] = seed
+    values = preset_values("stratocumulus", seed=seed)
     rng = np.random.default_rng(seed)
     low, high = cloud_share(values, LOW, rng), cloud_share(values, HIGH, rng)
     assert low >= CLOSED_AT_BASE, f"seed {seed}: share of cloud at height {LOW} is {low:.3f} < {CLOSED_AT_BASE}"

@@ -15,32 +15,18 @@ random points of the sheet's inner half (standard error about 0.35 %); the bound
 import cloudgen_native as cn
 import numpy as np
 import pytest
+from layer_points import cloud_share, points_at, preset_values
 
-POINTS = 20000
-INNER = 0.3  # of the half-width: inside the sheet's inner half, where its horizontal term is 0
 TOP = 1.0 - 1e-4  # a height just under the box's top face (0 its floor, 1 its top)
 SHEETS = sorted(n for n, p in cn.presets().items() if p["params"]["sheet"] > 0)
-
-
-def preset_values(name, **over):
-    values = dict(cn.defaults(), **cn.presets()[name]["params"])
-    values.update(over)
-    return values
-
-
-def points_at(values, height, rng, extent=INNER):
-    bx, by, bz = values["box_size"]
-    return np.stack([rng.uniform(-extent, extent, POINTS) * bx / 2, rng.uniform(-extent, extent, POINTS) * by / 2,
-                     np.full(POINTS, (height - 0.5) * bz)], axis=1)
-
-
-def cloud_share(values, height, rng):
-    return float((cn.density(values, points_at(values, height, rng)) > 0).mean())
+LAYERS = ["altocumulus", "altostratus", "cirrocumulus", "cirrostratus", "cirrus", "nimbostratus", "stratocumulus",
+          "stratus"]
 
 
 def test_every_layer_preset_is_a_sheet():
-    """The presets this file covers: the eight layer clouds (a preset turned compact would drop out)."""
-    assert len(SHEETS) == 8, f"sheet presets: {SHEETS}"
+    """The presets this file covers are exactly the eight layer genera (a layer turned compact, or
+    a compact cloud turned sheet, would change what is tested here)."""
+    assert SHEETS == LAYERS, f"sheet presets: {SHEETS}, layer genera: {LAYERS}"
 
 
 @pytest.mark.parametrize("name", SHEETS)
